@@ -1,0 +1,273 @@
+"""PendulumImpactDamper: a pythonfmu Fmi2Slave that is a thin adapter over Damper.
+
+Variables (names are a contract): input F [N]; parameters g, M, mu, L2, FR, d,
+d_angle, e (tunable), contact_form, F0, Omega, phi and the initial state
+theta_0, theta_dot_0, alpha_0, alpha_dot_0; outputs theta, theta_dot, alpha,
+alpha_dot, x, y, z, a, impacts, contact, contact_force, energy,
+energy_dissipated, work_in.
+
+Bad input (invalid parameter, non-finite input, inconsistent step) is logged
+through the FMI logger at error level, naming the variable, its value and what
+is allowed, and the call then fails with an exception (fmi2Fatal in pythonfmu
+0.7), which makes every host stop with an error.  Hosts show the model's
+messages only with debug logging on.
+"""
+import math
+import uuid
+from xml.etree.ElementTree import Element, SubElement
+
+from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real
+from pythonfmu.enums import Fmi2Status
+from pythonfmu.default_experiment import DefaultExperiment
+
+from pidamper_physics import Damper, ParameterError, Params
+from pidamper_physics.params import check_restitution
+
+SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
+VERSION = "0.1.0"
+
+_W2_DEFAULT = math.sqrt(9.81 / 1.0)
+
+# name, type, causality, variability, start, unit, min, max, description
+PARAMETERS = (
+    ("g", Real, 9.81, "m/s2", 0.0, None, "gravitational acceleration (> 0)"),
+    ("M", Real, 1.0, "kg", 0.0, None, "primary mass (> 0)"),
+    ("mu", Real, 0.1, "1", 0.0, None, "mass ratio m/M (>= 0; 0 = no damper)"),
+    ("L2", Real, 1.0, "m", 0.0, None, "primary pendulum length (> 0)"),
+    ("FR", Real, 5.0, "1", 0.0, None, "frequency ratio w1/w2 (> 0); particle length L1 = L2/FR^2"),
+    ("d", Real, 0.1, "m", 0.0, None, "clearance, displacement form: contact at x - y = +-d (> 0)"),
+    ("d_angle", Real, 0.1, "rad", 0.0, None, "clearance, angle form: contact at theta - alpha = +-d_angle (> 0)"),
+    ("e", Real, 0.2, "1", 0.0, 1.0, "coefficient of restitution in [0, 1] (tunable)"),
+    ("contact_form", Integer, 0, None, 0, 1, "0 = displacement form (default), 1 = angle form as printed in the paper"),
+    ("F0", Real, 0.0, "N", None, None, "amplitude of the built-in harmonic force F0 sin(Omega t + phi)"),
+    ("Omega", Real, _W2_DEFAULT, "rad/s", 0.0, None, "frequency of the built-in harmonic force (>= 0)"),
+    ("phi", Real, 0.0, "rad", None, None, "phase of the built-in harmonic force"),
+    ("theta_0", Real, 0.0, "rad", None, None, "initial primary angle"),
+    ("theta_dot_0", Real, 0.5, "rad/s", None, None, "initial primary angular velocity"),
+    ("alpha_0", Real, 0.0, "rad", None, None, "initial particle angle"),
+    ("alpha_dot_0", Real, 0.0, "rad/s", None, None, "initial particle angular velocity"),
+)
+
+# name, type, unit, description, direct feedthrough from F
+OUTPUTS = (
+    ("theta", Real, "rad", "primary angle", False),
+    ("theta_dot", Real, "rad/s", "primary angular velocity", False),
+    ("alpha", Real, "rad", "particle angle", False),
+    ("alpha_dot", Real, "rad/s", "particle angular velocity", False),
+    ("x", Real, "m", "primary displacement L2*theta", False),
+    ("y", Real, "m", "particle displacement L1*alpha", False),
+    ("z", Real, "m", "gap x - y", False),
+    ("a", Real, "m/s2", "primary acceleration between impacts", True),
+    ("impacts", Integer, None, "impacts applied so far (chatter impacts included)", False),
+    ("contact", Integer, None, "0 free, +1/-1 particle riding that stop", False),
+    ("contact_force", Real, "N", "force of the stop on the particle while riding it, else 0", True),
+    ("energy", Real, "J", "mechanical energy 0.5 M (v^2 + w2^2 x^2) + 0.5 m (u^2 + w1^2 y^2)", False),
+    ("energy_dissipated", Real, "J", "energy dissipated by impacts so far", False),
+    ("work_in", Real, "J", "work done by the applied forces so far, integral of F v dt", False),
+)
+
+_UNITS = {"m": {"m": 1}, "m/s2": {"m": 1, "s": -2}, "kg": {"kg": 1}, "1": {},
+          "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "N": {"kg": 1, "m": 1, "s": -2},
+          "J": {"kg": 1, "m": 2, "s": -2}}
+
+_TIME_TOLERANCE = 1e-9  # relative mismatch of a step's start time accepted from a host
+
+
+class PendulumImpactDamper(Fmi2Slave):
+    """Pendulum-type particle impact damper, exact event-driven co-simulation."""
+
+    author = "pidamper developers"
+    description = ("Pendulum-type particle impact damper: primary pendulum and hanging particle, "
+                   "linearised, exact event-driven motion (impacts, chatter, sticking located inside doStep)")
+    version = VERSION
+    license = "MIT"
+    default_experiment = DefaultExperiment(start_time=0.0, stop_time=20.0, step_size=0.01)
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.guid = uuid.uuid5(uuid.NAMESPACE_URL, "pidamper/PendulumImpactDamper/" + SOURCE_HASH)
+        self._initialized = False
+        self._core = None
+        self.F = 0.0
+        self.register_variable(Real("F", causality=Fmi2Causality.input, variability=Fmi2Variability.continuous,
+                                    description="horizontal force on the primary mass [N]"))
+        for name, kind, start, *_ in PARAMETERS:
+            setattr(self, name, start)
+            tunable = name == "e"
+            self.register_variable(kind(
+                name, causality=Fmi2Causality.parameter,
+                variability=Fmi2Variability.tunable if tunable else Fmi2Variability.fixed,
+                setter=self._setter(name, tunable)))
+        for name, kind, *_ in OUTPUTS:
+            self.register_variable(kind(name, causality=Fmi2Causality.output, initial=Fmi2Initial.calculated,
+                                        variability=Fmi2Variability.continuous if kind is Real
+                                        else Fmi2Variability.discrete,
+                                        getter=getattr(self, "_out_" + name)))
+
+    # ---- parameters -----------------------------------------------------------------
+
+    def _setter(self, name, tunable):
+        def set_value(value):
+            if self._initialized and not tunable:
+                self._fail(name, value, "it is a fixed parameter and cannot change after initialization")
+            if tunable and self._initialized:
+                try:
+                    value = check_restitution(value)
+                except ParameterError as err:
+                    self._fail(err.name, err.value, err.allowed)
+                self._core.set_restitution(value)
+            setattr(self, name, value)
+            if not self._initialized:
+                self._core = None
+        return set_value
+
+    def _build_core(self):
+        params = Params(**{name: getattr(self, name) for name in Params.NAMES})
+        return Damper(params, self.theta_0, self.theta_dot_0, self.alpha_0, self.alpha_dot_0, self._t0)
+
+    def _fail(self, name, value, allowed):
+        message = f"{self.instance_name}: {name} = {value!r} is not allowed: {allowed}"
+        self.log(message, Fmi2Status.error)
+        raise ValueError(message)
+
+    def _core_now(self):
+        if self._core is None:
+            try:
+                self._core = self._build_core()
+            except ParameterError as err:
+                self._fail(err.name, err.value, err.allowed)
+        return self._core
+
+    # ---- FMI calls ------------------------------------------------------------------
+
+    _t0 = 0.0
+
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        if not math.isfinite(start_time):
+            self._fail("startTime", start_time, "it must be finite")
+        self._t0 = float(start_time)
+        self._core = None
+
+    def exit_initialization_mode(self):
+        self._core = None
+        self._core_now()
+        self._initialized = True
+
+    def do_step(self, current_time, step_size):
+        core = self._core
+        t = core.t
+        if not (math.isfinite(current_time) and math.isfinite(step_size)) or step_size < 0.0:
+            self._fail("communicationStepSize", step_size,
+                       f"the step from {current_time!r} must be finite and >= 0 (no step back in time)")
+        if abs(current_time - t) > _TIME_TOLERANCE * max(abs(t), step_size):
+            self._fail("currentCommunicationPoint", current_time,
+                       f"it must equal the FMU time {t!r} (relative tolerance {_TIME_TOLERANCE})")
+        force = self.F
+        if not math.isfinite(force):
+            self._fail("F", force, "the input must be finite")
+        core.advance(max(current_time + step_size, t), force)
+        return True
+
+    # ---- outputs --------------------------------------------------------------------
+
+    def _out_theta(self):
+        c = self._core_now()
+        return c.x / c.p.L2
+
+    def _out_theta_dot(self):
+        c = self._core_now()
+        return c.v / c.p.L2
+
+    def _out_alpha(self):
+        c = self._core_now()
+        return c.y / c.p.L1
+
+    def _out_alpha_dot(self):
+        c = self._core_now()
+        return c.u / c.p.L1
+
+    def _out_x(self):
+        return self._core_now().x
+
+    def _out_y(self):
+        return self._core_now().y
+
+    def _out_z(self):
+        c = self._core_now()
+        return c.x - c.y
+
+    def _out_a(self):
+        return self._core_now().acceleration(self.F)
+
+    def _out_impacts(self):
+        return self._core_now().impacts
+
+    def _out_contact(self):
+        return self._core_now().contact
+
+    def _out_contact_force(self):
+        return self._core_now().contact_force(self.F)
+
+    def _out_energy(self):
+        return self._core_now().energy
+
+    def _out_energy_dissipated(self):
+        return self._core_now().dissipated
+
+    def _out_work_in(self):
+        return self._core_now().work_in
+
+    # ---- FMU state ------------------------------------------------------------------
+
+    def _get_fmu_state(self):
+        state = {name: getattr(self, name) for name, *_ in PARAMETERS}
+        state["F"] = self.F
+        state["_t0"] = self._t0
+        state["_initialized"] = self._initialized
+        state["_core"] = self._core.get_state() if self._initialized else None
+        return state
+
+    def _set_fmu_state(self, state):
+        for name, *_ in PARAMETERS:
+            setattr(self, name, state[name])
+        self.F = state["F"]
+        self._t0 = state["_t0"]
+        self._initialized = state["_initialized"]
+        self._core = None
+        if self._initialized:
+            core = self._build_core()
+            core.set_state(dict(state["_core"]))
+            self._core = core
+
+    # ---- modelDescription -----------------------------------------------------------
+
+    def to_xml(self, model_options=dict()):
+        """pythonfmu's description plus units, ranges, descriptions and a full ModelStructure."""
+        root = super().to_xml(model_options)
+        info = {name: (unit, lo, hi, desc) for name, _, _, unit, lo, hi, desc in PARAMETERS}
+        info.update({name: (unit, None, None, desc) for name, _, unit, desc, _ in OUTPUTS})
+        info["F"] = ("N", None, None, "horizontal force on the primary mass")
+        index = {}
+        for i, sv in enumerate(root.find("ModelVariables"), start=1):
+            name = sv.get("name")
+            index[name] = i
+            unit, lo, hi, desc = info[name]
+            sv.set("description", desc)
+            typed = sv[0]
+            for key, val in (("unit", unit), ("min", lo), ("max", hi)):
+                if val is not None:
+                    typed.set(key, val if key == "unit" else repr(val))
+        units = Element("UnitDefinitions")
+        for name, dims in _UNITS.items():
+            SubElement(SubElement(units, "Unit", name=name), "BaseUnit", {k: str(v) for k, v in dims.items()})
+        root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
+        structure = root.find("ModelStructure")
+        for child in list(structure):
+            structure.remove(child)
+        outputs = SubElement(structure, "Outputs")
+        initial = SubElement(structure, "InitialUnknowns")
+        for name, _, _, _, feedthrough in OUTPUTS:
+            deps = str(index["F"]) if feedthrough else ""
+            SubElement(outputs, "Unknown", index=str(index[name]), dependencies=deps)
+            SubElement(initial, "Unknown", index=str(index[name]))
+        return root

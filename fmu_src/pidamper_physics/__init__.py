@@ -1,0 +1,13 @@
+"""Physics core of the pendulum-type particle impact damper (plain Python + math).
+
+Knows nothing of FMI.  The FMU (pidamper_fmu) is a thin adapter over `Damper`.
+This package uses relative imports only, so the FMU can ship it under another
+name (see build_fmu).
+"""
+from .damper import FREE, OUTSIDE, STICK, Damper
+from .impact import collide, impact_loss
+from .oscillator import Oscillator
+from .params import ANGLE, DISPLACEMENT, ParameterError, Params
+
+__all__ = ["ANGLE", "DISPLACEMENT", "FREE", "OUTSIDE", "STICK", "Damper", "Oscillator",
+           "ParameterError", "Params", "collide", "impact_loss"]

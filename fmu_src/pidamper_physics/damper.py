@@ -1,0 +1,228 @@
+"""The pendulum impact damper stepped from event to event.
+
+Coordinates are linear: x = L2 theta (primary), y = L1 alpha (particle), v, u
+their velocities [m, m/s].  Between events both bodies follow closed-form
+linear motion (segments.py); events are located exactly (events.py) and
+handled here:
+
+- impact (transversal contact inside the gap): Newton's law (impact.py);
+  displacement form: if the rebound would rise less than `CHATTER_HEIGHT`
+  position-rounding units while the pair is pressed into the stop, the rest of
+  the chatter sequence is collapsed into one plastic impact and the particle
+  rides the stop (stick);
+  angle form: if after the law the pair still closes in angle terms, the bodies
+  pass through the stop (documented rule, physics notes section 6) until they
+  re-enter the gap;
+- touch (contact at an approach speed below float64 resolution, pressed inward):
+  stick (displacement form) or pass-through (angle form); a touch that leaves
+  again is no event at all;
+- release: the contact force of a riding particle reaches zero;
+- re-entry (angle form): the overlap ends.
+
+Bookkeeping: `impacts` counts every application of the impact law (chatter
+impacts and the collapse of a chatter tail included); `dissipated` sums the
+losses of every impact and collapse; `work_in` adds the energy change over each
+smooth segment, which equals the integral of F v dt over it, because no
+force but the applied ones does work between events.  Hence
+E(0) + work_in - E(t) = dissipated up to rounding.
+"""
+import math
+
+from .events import CROSS, locate, classify, resolution_speed
+from .impact import collide, impact_loss
+from .params import DISPLACEMENT, Params, ParameterError, check_finite, check_restitution
+from .segments import Flight, Outside, Stick
+
+FREE = 0     # both bodies swing freely inside the gap
+STICK = 1    # the particle rides stop `side` (displacement form)
+OUTSIDE = 2  # angle form: the bodies have passed through stop `side`
+
+CHATTER_HEIGHT = 16.0  # rebound apex, in position-rounding units, below which chatter collapses
+
+STATE_KEYS = ("t", "x", "v", "y", "u", "mode", "side", "fresh", "impacts", "dissipated",
+              "work_in", "energy")
+
+
+class Damper:
+    """Event-driven pendulum impact damper; see the module doc for the rules."""
+
+    def __init__(self, params=None, theta0=0.0, theta_dot0=0.0, alpha0=0.0, alpha_dot0=0.0, t0=0.0):
+        p = params if params is not None else Params()
+        self.p = p
+        for name, val in (("theta_0", theta0), ("theta_dot_0", theta_dot0), ("alpha_0", alpha0),
+                          ("alpha_dot_0", alpha_dot0), ("start time", t0)):
+            check_finite(name, val)
+        self.t = float(t0)
+        self.x, self.v = p.L2 * theta0, p.L2 * theta_dot0
+        self.y, self.u = p.L1 * alpha0, p.L1 * alpha_dot0
+        gap = p.cx * self.x - p.cy * self.y
+        slack = 64 * 2.220446049250313e-16 * (p.D + abs(p.cx * self.x) + abs(p.cy * self.y))
+        if abs(gap) > p.D + slack:
+            name = "d" if p.contact_form == DISPLACEMENT else "d_angle"
+            raise ParameterError("theta_0, alpha_0", (theta0, alpha0),
+                                 f"the initial state penetrates a stop: |gap| = {abs(gap)!r} > {name} = {p.D!r}")
+        self.mode = FREE
+        self.side = 0
+        self.fresh = False  # True right after a mode switch at the current instant
+        self.impacts = 0
+        self.dissipated = 0.0
+        self.work_in = 0.0
+        self.energy = self._energy()
+        self.energy0 = self.energy
+        self.on_impact = None  # optional callback(t, side, rel_before, rel_after, loss)
+        # longest segment: one period of the fastest motion keeps trig arguments (and
+        # so rounding) small and the derivative bounds tight
+        p_fast = max(p.w1, p.w2, p.Omega, math.sqrt((p.w2 ** 2 + p.mu * p.w1 ** 2) / (1.0 + p.mu)))
+        self._max_span = 2.0 * math.pi / p_fast
+
+    # ---- public API -------------------------------------------------------------------
+
+    def advance(self, t_end, force=0.0):
+        """Move to time t_end [s] with the external force `force` [N] held constant."""
+        check_finite("F", force)
+        check_finite("t_end", t_end)
+        if t_end < self.t:
+            raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
+        fc = force / self.p.M
+        while self.t < t_end:
+            horizon = t_end - self.t
+            span = min(horizon, self._max_span)
+            seg = self._segment(fc, span)
+            event = locate(seg, span, self.fresh)
+            if event is None:
+                self._move(seg, span, t_end if span == horizon else self.t + span)
+                continue
+            tau, kind = event
+            self._move(seg, tau, t_end if tau >= horizon else self.t + tau)
+            self._handle(seg, tau, kind, fc)
+            if self.t >= t_end:
+                return
+
+    def set_restitution(self, e):
+        self.p.e = check_restitution(e)
+
+    @property
+    def contact(self):
+        """+1 / -1 while the particle rides that stop, else 0."""
+        return self.side if self.mode == STICK else 0
+
+    def acceleration(self, force=0.0):
+        """Primary acceleration [m/s2] at the current state under held force `force` [N]."""
+        p = self.p
+        f = force / p.M + p.F0 / p.M * math.sin(p.Omega * self.t + p.phi)
+        if self.mode != STICK:
+            return f - p.w2 * p.w2 * self.x
+        return (f + p.mu * p.w1 * p.w1 * (self.side * p.d - self.x) - p.w2 * p.w2 * self.x) / (1.0 + p.mu)
+
+    def contact_force(self, force=0.0):
+        """Force [N] of the stop on the particle while it rides a stop, else 0."""
+        if self.mode != STICK:
+            return 0.0
+        p = self.p
+        return p.m * (self.acceleration(force) + p.w1 * p.w1 * (self.x - self.side * p.d))
+
+    def get_state(self):
+        """Plain dict (JSON-safe) of everything that determines the future motion."""
+        return {k: getattr(self, k) for k in STATE_KEYS}
+
+    def set_state(self, state):
+        for k in STATE_KEYS:
+            setattr(self, k, state[k])
+
+    # ---- internals --------------------------------------------------------------------
+
+    def _energy(self):
+        p = self.p
+        return 0.5 * p.M * (self.v * self.v + p.w2 * p.w2 * self.x * self.x) + \
+            0.5 * p.m * (self.u * self.u + p.w1 * p.w1 * self.y * self.y)
+
+    def _segment(self, fc, horizon):
+        p = self.p
+        psi = p.Omega * self.t + p.phi
+        if self.mode == STICK:
+            return Stick(p, self.x, self.v, self.side, fc, psi, horizon)
+        if self.mode == OUTSIDE:
+            return Outside(p, self.x, self.v, self.y, self.u, fc, psi, horizon, self.side)
+        return Flight(p, self.x, self.v, self.y, self.u, fc, psi, horizon)
+
+    def _move(self, seg, tau, t_new):
+        """Take the state at tau of the segment; the work of the forces is the energy change."""
+        self.x, self.v, self.y, self.u = seg.positions(tau)
+        if tau > 0.0:
+            self.fresh = False
+        e_new = self._energy()
+        self.work_in += e_new - self.energy
+        self.energy = e_new
+        self.t = t_new
+
+    def _switch(self, mode, side):
+        self.mode, self.side, self.fresh = mode, side, True
+
+    def _handle(self, seg, tau, kind, fc):
+        if self.mode == STICK or self.mode == OUTSIDE:
+            self._switch(FREE, 0)  # release from the stop, or re-entry into the gap
+            return
+        side = seg.side(tau)
+        self._snap(side)
+        if kind == CROSS:
+            self._impact(side)
+        gap, g1, g2, g3 = self._guard_derivs(seg, side, fc)
+        n0, n1, n2, n3 = seg.noise
+        if self.p.contact_form == DISPLACEMENT:
+            rebound = g1  # separation speed after the impact (0 after a touch)
+            if g2 < -n2 and rebound * rebound <= -2.0 * g2 * CHATTER_HEIGHT * n0:
+                self._collapse(side)
+                self._switch(STICK, side)
+                return
+            order, dk = classify(g1, g2, g3, resolution_speed(g2, n0, n1, n2), n2, n3)
+            if dk < 0.0:  # touch pressed inward at third order
+                self._collapse(side)
+                self._switch(STICK, side)
+                return
+            self._switch(FREE, 0)
+            return
+        order, dk = classify(g1, g2, g3, resolution_speed(g2, n0, n1, n2), n2, n3)
+        if dk < 0.0:
+            self._switch(OUTSIDE, side)  # the pair still closes: pass through the stop
+        else:
+            self._switch(FREE, 0)
+
+    def _guard_derivs(self, seg, side, fc):
+        """Gap guard D - side z and its derivatives at the current (post-event) state."""
+        p = self.p
+        f = Flight(p, self.x, self.v, self.y, self.u, fc, p.Omega * self.t + p.phi, 0.0)
+        z, z1, z2, z3 = f.gap_derivs(0.0)
+        return p.D - side * z, -side * z1, -side * z2, -side * z3
+
+    def _snap(self, side):
+        """Put the pair exactly on the stop (removes rounding-level overlap)."""
+        p = self.p
+        self.y = (p.cx * self.x - side * p.D) / p.cy
+
+    def _impact(self, side):
+        p = self.p
+        v, u = self.v, self.u
+        loss = impact_loss(p.M, p.mu, p.e, v, u)
+        self.v, self.u = collide(v, u, p.mu, p.e)
+        self.impacts += 1
+        self._account(loss)
+        if self.on_impact is not None:
+            self.on_impact(self.t, side, u - v, self.u - self.v, loss)
+
+    def _collapse(self, side):
+        """Plastic impact that ends a chatter sequence (or a touch) on stop `side`."""
+        p = self.p
+        v, u = self.v, self.u
+        if u == v:
+            return
+        loss = impact_loss(p.M, p.mu, 0.0, v, u)
+        self.v, self.u = collide(v, u, p.mu, 0.0)
+        self.impacts += 1
+        self._account(loss)
+        if self.on_impact is not None:
+            self.on_impact(self.t, side, u - v, 0.0, loss)
+
+    def _account(self, loss):
+        self.dissipated += loss
+        e_new = self._energy()
+        self.energy = e_new

@@ -1,0 +1,122 @@
+"""Event location by conservative advancement: a zero of a guard cannot be missed.
+
+A segment exposes a guard g(tau) that is positive while its mode holds (the gap
+to the nearer stop in free flight, the contact force while riding a stop, the
+overlap while the angle form passes through a stop), plus
+
+    seg.value(tau)  -> (g, g')                 cheap, used while far from zero
+    seg.derivs(tau) -> (g, g', g'', g''')      used only next to a zero
+    seg.bounds      =  (B2, B3, B4)            bounds of |g''|, |g'''|, |g''''| on the segment
+    seg.noise       =  (n0, n1, n2, n3)        rounding level of g, g', g'', g'''
+    seg.clear       =  True when g cannot reach zero on the whole segment
+
+Far from zero the solver steps by the smallest positive root of the Taylor lower
+bound g + g' s - B2 s^2 / 2, so g stays positive on every step: no contact can be
+jumped over, grazing ones included.  Next to zero (g <= n0) the point is
+classified by the first derivative that rises above its rounding level:
+
+- g' < -v_res: a transversal crossing, refined by Newton to machine precision
+  (v_res = max(n1, sqrt(2 (|g''| + n2) n0)) is the smallest approach speed whose
+  crossing float64 positions can resolve);
+- first significant derivative negative: the guard is pressed to zero at an
+  approach speed below resolution (a touch that continues inward);
+- positive, or nothing significant: the guard leaves zero; a departure step of
+  the order of that derivative keeps g above rounding level.
+
+Every pass of the loop advances tau by at least one ulp or returns, so the
+search terminates.  Right after a mode switch (``fresh``) the point tau = 0 is
+never reported again, which rules out ping-pong between two modes at one
+instant.
+"""
+import math
+
+CROSS = 1  # transversal zero crossing, found to machine precision
+TOUCH = 2  # zero reached (or already passed) at an approach speed below resolution
+
+_INF = math.inf
+
+
+def safe_step(g, g1, b2):
+    """Smallest positive root of g + g1 s - b2 s^2 / 2 (g > 0): g stays positive before it."""
+    if b2 <= 0.0:
+        return g / -g1 if g1 < 0.0 else _INF
+    root = math.sqrt(g1 * g1 + 2.0 * b2 * g)
+    if g1 <= 0.0:
+        return 2.0 * g / (root - g1)
+    return (g1 + root) / b2
+
+
+def classify(g1, g2, g3, vres, n2, n3):
+    """Order (1, 2, 3; 0 if none) and value of the first significant derivative."""
+    if g1 > vres or g1 < -vres:
+        return 1, g1
+    if g2 > n2 or g2 < -n2:
+        return 2, g2
+    if g3 > n3 or g3 < -n3:
+        return 3, g3
+    return 0, 0.0
+
+
+def resolution_speed(g2, n0, n1, n2):
+    """Smallest approach speed whose crossing the position resolution n0 can resolve."""
+    return max(n1, math.sqrt(2.0 * (abs(g2) + n2) * n0))
+
+
+def departure_step(order, dk, vres, bounds):
+    """A step after which a guard leaving zero through derivative `order` is above rounding."""
+    b2, b3, b4 = bounds
+    if order == 1 and dk > 0.0:
+        return dk / b2 if b2 > 0.0 else _INF
+    if order == 2 and dk > 0.0:
+        return 1.5 * dk / b3 if b3 > 0.0 else _INF
+    if order == 3 and dk > 0.0:
+        return 2.0 * dk / b4 if b4 > 0.0 else _INF
+    # nothing significant (or a contradiction right after a switch): a window in which
+    # the approach speed cannot exceed 2 v_res, i.e. no resolvable contact
+    return vres / b2 if b2 > 0.0 else _INF
+
+
+def locate(seg, tau_end, fresh=False):
+    """First zero of seg's guard in [0, tau_end]: (tau, CROSS or TOUCH), or None."""
+    if tau_end <= 0.0 or seg.clear:
+        return None
+    n0, n1, n2, n3 = seg.noise
+    b2 = seg.bounds[0]
+    tau = 0.0
+    while True:
+        g, g1 = seg.value(tau)
+        if g > n0:
+            nxt = tau + safe_step(g, g1, b2)
+            if nxt >= tau_end:
+                return None
+            if nxt > tau:
+                tau = nxt
+                continue
+            # the zero lies within one ulp of tau: classify it here
+        g, g1, g2, g3 = seg.derivs(tau)
+        vres = resolution_speed(g2, n0, n1, n2)
+        order, dk = classify(g1, g2, g3, vres, n2, n3)
+        if not (fresh and tau == 0.0):
+            if g < -n0:
+                return tau, TOUCH  # already past zero: a jump of the guard at a step start
+            if order == 1 and dk < 0.0:
+                return min(_newton(seg, tau, g, g1), tau_end), CROSS
+            if dk < 0.0:
+                return tau, TOUCH
+        step = departure_step(order, dk, vres, seg.bounds)
+        tau = max(tau + step, math.nextafter(tau, _INF))
+        if tau >= tau_end:
+            return None
+
+
+def _newton(seg, tau, g, g1):
+    """Root of the guard next to tau (transversal, so Newton converges quadratically)."""
+    for _ in range(6):
+        nxt = max(tau - g / g1, 0.0)
+        if nxt == tau:
+            break
+        tau = nxt
+        g, g1 = seg.value(tau)
+        if g1 >= 0.0:
+            break
+    return tau

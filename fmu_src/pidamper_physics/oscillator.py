@@ -1,0 +1,97 @@
+"""Closed-form motion of one forced linear oscillator over one segment.
+
+    x'' + w**2 * x = c + a * sin(Omega * tau + psi),    tau = t - t0 >= 0,
+    x(0) = x0,  x'(0) = v0.
+
+Units: x in metres (or radians: the formula does not care), w and Omega in
+rad/s, c and a in m/s2.  The solution is written as
+
+    x = xe + A cos(w tau) + B sin(w tau) + a * (sin(psi) Dc(tau) + cos(psi) Ds(tau))
+
+with xe = c / w**2 and Dc, Ds the zero-initial-condition responses to
+cos(Omega tau) and sin(Omega tau).  Dc and Ds are evaluated through half-sum
+and half-difference angles, so they are exact for every Omega >= 0: at exact
+resonance (secular growth) and next to it (no 0/0 cancellation).
+"""
+import math
+
+
+class Oscillator:
+    """One segment of x'' + w^2 x = c + a sin(Omega tau + psi); see the module doc."""
+
+    __slots__ = ("w", "ww", "xe", "A", "B", "a", "om", "sp", "cp", "hs", "hd", "R")
+
+    def __init__(self, w, x0, v0, c=0.0, a=0.0, om=0.0, psi=0.0):
+        ww = w * w
+        self.w = w
+        self.ww = ww
+        self.xe = c / ww
+        self.A = x0 - self.xe
+        self.B = v0 / w
+        self.R = math.hypot(self.A, self.B)
+        self.a = a
+        self.om = om
+        if a != 0.0:
+            self.sp = math.sin(psi)
+            self.cp = math.cos(psi)
+            self.hs = 0.5 * (om + w)  # half sum of the frequencies
+            self.hd = 0.5 * (om - w)  # half difference
+
+    def state(self, tau):
+        """(x, dx, sin, cos) at tau; sin and cos are those of Omega tau + psi (0 unforced)."""
+        if self.a == 0.0:
+            w = self.w
+            s = math.sin(w * tau)
+            co = math.cos(w * tau)
+            return (self.xe + self.A * co + self.B * s, w * (self.B * co - self.A * s), 0.0, 0.0)
+        return self._forced(tau)
+
+    def derivs(self, tau):
+        """(x, dx, d2x, d3x, sin, cos) at tau, sin and cos as in state()."""
+        x, v, sf, cf = self.state(tau)
+        ww = self.ww
+        a = self.a
+        return x, v, a * sf - ww * (x - self.xe), a * self.om * cf - ww * v, sf, cf
+
+    def _forced(self, tau):
+        w = self.w
+        hs = self.hs
+        u = self.hd * tau
+        ss = math.sin(hs * tau)
+        cs = math.cos(hs * tau)
+        sd = math.sin(u)
+        cd = math.cos(u)
+        s = ss * cd - cs * sd  # sin(w tau)
+        co = cs * cd + ss * sd  # cos(w tau)
+        so = ss * cd + cs * sd  # sin(Omega tau)
+        coo = cs * cd - ss * sd  # cos(Omega tau)
+        sinc = sd / u if u != 0.0 else 1.0
+        dc = tau * ss * sinc / (2.0 * hs)
+        ds = (s - w * tau * cs * sinc) / (2.0 * w * hs)
+        a = self.a
+        sp = self.sp
+        cp = self.cp
+        om = self.om
+        x = self.xe + self.A * co + self.B * s + a * (sp * dc + cp * ds)
+        v = w * (self.B * co - self.A * s) + a * (sp * (s / w - om * ds) + cp * om * dc)
+        return x, v, sp * coo + cp * so, cp * coo - sp * so
+
+    def bounds(self, T):
+        """Bounds P0..P6 of |x - xe|, |x'|, ..., |x^(6)| over 0 <= tau <= T."""
+        w = self.w
+        ww = self.ww
+        a = abs(self.a)
+        R = self.R
+        if a == 0.0:
+            return (R, w * R, ww * R, ww * w * R, ww * ww * R, ww * ww * w * R, ww * ww * ww * R)
+        om = self.om
+        gap = abs(ww - om * om)
+        xh = a * T / w
+        vh = a * T
+        if gap > 0.0:
+            xh = min(xh, a * (1.0 + max(1.0, om / w)) / gap)
+            vh = min(vh, a * (om + max(w, om)) / gap)
+        p = [R + xh, w * R + vh]
+        for k in range(5):
+            p.append(ww * p[k] + a * om ** k)
+        return tuple(p)

@@ -1,0 +1,12 @@
+"""pidamper: fmpy harness for the PendulumImpactDamper FMU.
+
+Public API: find_fmu, run, RunResult, forcing (signal generators), measures,
+FmuStepper / CoreStepper (step-by-step drivers with save/restore).
+"""
+from . import forcing, measures
+from .fmu import find_fmu
+from .simulation import OUTPUTS, RunResult, resonance, run
+from .stepper import CoreStepper, FmuStepper
+
+__all__ = ["OUTPUTS", "CoreStepper", "FmuStepper", "RunResult", "find_fmu", "forcing", "measures",
+           "resonance", "run"]

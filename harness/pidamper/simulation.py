@@ -1,0 +1,83 @@
+"""One fmpy run of the damper FMU against a forcing signal.
+
+This is the public API a user scripting fmpy would use:
+
+    from pidamper import find_fmu, forcing, run
+    result = run({"mu": 0.02, "FR": 5.0}, forcing.harmonic(0.0981, 3.132), stop_time=40.0, output_interval=0.01)
+    result.data["theta"]        # structured array, one row per communication point
+"""
+import math
+import time
+from dataclasses import dataclass, field
+
+import fmpy
+import numpy as np
+
+from .fmu import find_fmu
+from .forcing import Forcing, none
+
+OUTPUTS = ("theta", "theta_dot", "alpha", "alpha_dot", "x", "y", "z", "a", "impacts", "contact",
+           "contact_force", "energy", "energy_dissipated", "work_in")
+
+
+@dataclass
+class RunResult:
+    data: np.ndarray  # structured: time, F (force held over the step that ends there), OUTPUTS
+    fmu: str
+    parameters: dict
+    forcing: Forcing
+    output_interval: float
+    cpu_time: float  # s, process CPU time of the fmpy run
+    meta: dict = field(default_factory=dict)
+
+    def write_csv(self, path):
+        names = self.data.dtype.names
+        np.savetxt(path, np.column_stack([self.data[n].astype(float) for n in names]), delimiter=",",
+                   header=",".join(names), comments="", fmt="%.17g")
+
+
+def resonance(parameters):
+    """Primary natural frequency w2 = sqrt(g / L2) [rad/s] for the given parameters."""
+    return math.sqrt(parameters.get("g", 9.81) / parameters.get("L2", 1.0))
+
+
+def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu=None, start_time=0.0,
+        step_finished=None):
+    """Simulate the FMU with fmpy.simulate_fmu; parameters are FMU start values."""
+    forcing = forcing or none()
+    _check_interval(start_time, stop_time, output_interval)
+    start_values = dict(parameters or {})
+    start_values.update(forcing.start_values)
+    path = str(find_fmu(fmu))
+    n = int(round((stop_time - start_time) / output_interval))
+    grid = start_time + output_interval * np.arange(n + 1)
+    signal = forcing.input_array(grid)
+    cpu = time.process_time()
+    data = fmpy.simulate_fmu(path, start_time=start_time, stop_time=stop_time, output_interval=output_interval,
+                             start_values=start_values, input=signal, output=list(OUTPUTS),
+                             step_finished=step_finished)
+    cpu = time.process_time() - cpu
+    data = _with_force(data, forcing)
+    return RunResult(data, path, start_values, forcing, output_interval, cpu)
+
+
+def _with_force(data, forcing):
+    """Add column F: the force held over the step ending at each row (first row: at t0)."""
+    out = np.zeros(len(data), dtype=[("time", np.float64), ("F", np.float64)] +
+                   [(n, data.dtype[n]) for n in data.dtype.names if n != "time"])
+    for name in data.dtype.names:
+        out[name] = data[name]
+    t = data["time"]
+    held = forcing.value(np.concatenate([t[:1], t[:-1]]))
+    out["F"] = held
+    return out
+
+
+def _check_interval(start_time, stop_time, output_interval):
+    for name, value in (("start_time", start_time), ("stop_time", stop_time), ("output_interval", output_interval)):
+        if not math.isfinite(value):
+            raise ValueError(f"{name} = {value!r} is not allowed: it must be finite")
+    if output_interval <= 0:
+        raise ValueError(f"output_interval = {output_interval!r} is not allowed: it must be > 0 s")
+    if stop_time <= start_time:
+        raise ValueError(f"stop_time = {stop_time!r} is not allowed: it must exceed start_time = {start_time!r}")

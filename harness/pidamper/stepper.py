@@ -1,0 +1,138 @@
+"""Step-by-step drivers with save/restore, for measures that need the continuous solution.
+
+Both steppers share one protocol (t, advance, read, save, restore, discard,
+close) so the measures run unchanged on the FMU (through fmpy's FMU2Slave) or
+on the physics core directly.  The external force, if any, is sampled at the
+start of each advance and held (as a co-simulation host does).
+"""
+import shutil
+
+import fmpy
+from fmpy.fmi2 import FMU2Slave
+
+from pidamper_physics import Damper, Params
+
+_INITIAL = ("theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0")
+
+
+class FmuStepper:
+    """The damper FMU driven by fmpy's FMU2Slave."""
+
+    def __init__(self, fmu_path, start_values=None, forcing=None, start_time=0.0, instance_name="pidamper"):
+        self._md = md = fmpy.read_model_description(str(fmu_path))
+        self._dir = fmpy.extract(str(fmu_path))
+        self._vars = {v.name: v for v in md.modelVariables}
+        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._dir,
+                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName=instance_name)
+        self.forcing = forcing
+        self.t = float(start_time)
+        fmu = self.fmu
+        fmu.instantiate()
+        try:
+            fmu.setupExperiment(startTime=self.t)
+            fmu.enterInitializationMode()
+            for name, value in (start_values or {}).items():
+                self.set(name, value)
+            fmu.exitInitializationMode()
+        except Exception:
+            self.close()
+            raise
+        self._vr_read = [self._vars[n].valueReference for n in ("theta", "theta_dot")]
+
+    def set(self, name, value):
+        var = self._vars.get(name)
+        if var is None:
+            raise KeyError(f"{name!r} is not a variable of the FMU")
+        if var.type == "Integer":
+            self.fmu.setInteger([var.valueReference], [int(value)])
+        else:
+            self.fmu.setReal([var.valueReference], [float(value)])
+
+    def get(self, name):
+        var = self._vars[name]
+        if var.type == "Integer":
+            return self.fmu.getInteger([var.valueReference])[0]
+        return self.fmu.getReal([var.valueReference])[0]
+
+    def advance(self, t_end):
+        if self.forcing is not None:
+            self.set("F", float(self.forcing.value(self.t)))
+        self.fmu.doStep(currentCommunicationPoint=self.t, communicationStepSize=t_end - self.t)
+        self.t = t_end
+
+    def read(self):
+        """(theta, theta_dot) now."""
+        theta, theta_dot = self.fmu.getReal(self._vr_read)
+        return theta, theta_dot
+
+    def save(self):
+        return self.t, self.fmu.getFMUstate()
+
+    def restore(self, saved):
+        self.t, state = saved
+        self.fmu.setFMUstate(state)
+
+    def discard(self, saved):
+        self.fmu.freeFMUstate(saved[1])
+
+    def close(self):
+        try:
+            self.fmu.terminate()
+        except Exception:
+            pass
+        self.fmu.freeInstance()
+        shutil.rmtree(self._dir, ignore_errors=True)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class CoreStepper:
+    """The physics core (pidamper_physics.Damper) behind the same protocol."""
+
+    def __init__(self, start_values=None, forcing=None, start_time=0.0):
+        values = dict(start_values or {})
+        initial = [float(values.pop(k, 0.0)) for k in _INITIAL]
+        params = {k: values.pop(k) for k in list(values) if k in Params.NAMES}
+        if values:
+            raise KeyError(f"unknown parameters {sorted(values)!r}")
+        self.core = Damper(Params(**params), *initial, t0=start_time)
+        self.forcing = forcing
+
+    @property
+    def t(self):
+        return self.core.t
+
+    def advance(self, t_end):
+        force = 0.0 if self.forcing is None else float(self.forcing.value(self.core.t))
+        self.core.advance(t_end, force)
+
+    def read(self):
+        c = self.core
+        return c.x / c.p.L2, c.v / c.p.L2
+
+    def get(self, name):
+        c = self.core
+        return {"impacts": c.impacts, "energy": c.energy, "energy_dissipated": c.dissipated,
+                "work_in": c.work_in, "theta": c.x / c.p.L2}[name]
+
+    def save(self):
+        return self.core.get_state()
+
+    def restore(self, saved):
+        self.core.set_state(saved)
+
+    def discard(self, saved):
+        pass
+
+    def close(self):
+        pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
