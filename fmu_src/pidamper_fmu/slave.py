@@ -20,33 +20,33 @@ from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, In
 from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
-from pidamper_physics import Damper, ParameterError, Params
+from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, Damper, ParameterError, Params
 from pidamper_physics.params import check_restitution
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
 
-_W2_DEFAULT = math.sqrt(9.81 / 1.0)
+_START = {**DEFAULTS, **INITIAL_DEFAULTS}
 
-# name, type, causality, variability, start, unit, min, max, description
-PARAMETERS = (
-    ("g", Real, 9.81, "m/s2", 0.0, None, "gravitational acceleration (> 0)"),
-    ("M", Real, 1.0, "kg", 0.0, None, "primary mass (> 0)"),
-    ("mu", Real, 0.1, "1", 0.0, None, "mass ratio m/M (>= 0; 0 = no damper)"),
-    ("L2", Real, 1.0, "m", 0.0, None, "primary pendulum length (> 0)"),
-    ("FR", Real, 5.0, "1", 0.0, None, "frequency ratio w1/w2 (> 0); particle length L1 = L2/FR^2"),
-    ("d", Real, 0.1, "m", 0.0, None, "clearance, displacement form: contact at x - y = +-d (> 0)"),
-    ("d_angle", Real, 0.1, "rad", 0.0, None, "clearance, angle form: contact at theta - alpha = +-d_angle (> 0)"),
-    ("e", Real, 0.2, "1", 0.0, 1.0, "coefficient of restitution in [0, 1] (tunable)"),
-    ("contact_form", Integer, 0, None, 0, 1, "0 = displacement form (default), 1 = angle form as printed in the paper"),
-    ("F0", Real, 0.0, "N", None, None, "amplitude of the built-in harmonic force F0 sin(Omega t + phi)"),
-    ("Omega", Real, _W2_DEFAULT, "rad/s", 0.0, None, "frequency of the built-in harmonic force (>= 0)"),
-    ("phi", Real, 0.0, "rad", None, None, "phase of the built-in harmonic force"),
-    ("theta_0", Real, 0.0, "rad", None, None, "initial primary angle"),
-    ("theta_dot_0", Real, 0.5, "rad/s", None, None, "initial primary angular velocity"),
-    ("alpha_0", Real, 0.0, "rad", None, None, "initial particle angle"),
-    ("alpha_dot_0", Real, 0.0, "rad/s", None, None, "initial particle angular velocity"),
-)
+# name, type, start, unit, min, max, description
+PARAMETERS = tuple((name, kind, _START[name], unit, lo, hi, desc) for name, kind, unit, lo, hi, desc in (
+    ("g", Real, "m/s2", 0.0, None, "gravitational acceleration (> 0)"),
+    ("M", Real, "kg", 0.0, None, "primary mass (> 0)"),
+    ("mu", Real, "1", 0.0, None, "mass ratio m/M (>= 0; 0 = no damper)"),
+    ("L2", Real, "m", 0.0, None, "primary pendulum length (> 0)"),
+    ("FR", Real, "1", 0.0, None, "frequency ratio w1/w2 (> 0); particle length L1 = L2/FR^2"),
+    ("d", Real, "m", 0.0, None, "clearance, displacement form: contact at x - y = +-d (> 0)"),
+    ("d_angle", Real, "rad", 0.0, None, "clearance, angle form: contact at theta - alpha = +-d_angle (> 0)"),
+    ("e", Real, "1", 0.0, 1.0, "coefficient of restitution in [0, 1] (tunable)"),
+    ("contact_form", Integer, None, 0, 1, "0 = displacement form (default), 1 = angle form as printed in the paper"),
+    ("F0", Real, "N", None, None, "amplitude of the built-in harmonic force F0 sin(Omega t + phi)"),
+    ("Omega", Real, "rad/s", 0.0, None, "frequency of the built-in harmonic force (>= 0)"),
+    ("phi", Real, "rad", None, None, "phase of the built-in harmonic force"),
+    ("theta_0", Real, "rad", None, None, "initial primary angle"),
+    ("theta_dot_0", Real, "rad/s", None, None, "initial primary angular velocity"),
+    ("alpha_0", Real, "rad", None, None, "initial particle angle"),
+    ("alpha_dot_0", Real, "rad/s", None, None, "initial particle angular velocity"),
+))
 
 # name, type, unit, description, direct feedthrough from F
 OUTPUTS = (

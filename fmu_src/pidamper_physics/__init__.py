@@ -7,7 +7,7 @@ name (see build_fmu).
 from .damper import FREE, OUTSIDE, STICK, Damper
 from .impact import collide, impact_loss
 from .oscillator import Oscillator
-from .params import ANGLE, DISPLACEMENT, ParameterError, Params
+from .params import ANGLE, DEFAULTS, DISPLACEMENT, INITIAL_DEFAULTS, ParameterError, Params
 
-__all__ = ["ANGLE", "DISPLACEMENT", "FREE", "OUTSIDE", "STICK", "Damper", "Oscillator",
+__all__ = ["ANGLE", "DEFAULTS", "DISPLACEMENT", "INITIAL_DEFAULTS", "FREE", "OUTSIDE", "STICK", "Damper", "Oscillator",
            "ParameterError", "Params", "collide", "impact_loss"]

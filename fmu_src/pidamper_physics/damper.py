@@ -92,9 +92,9 @@ class Damper:
             if event is None:
                 self._move(seg, span, t_end if span == horizon else self.t + span)
                 continue
-            tau, kind = event
+            tau, kind, guard = event
             self._move(seg, tau, t_end if tau >= horizon else self.t + tau)
-            self._handle(seg, tau, kind, fc)
+            self._handle(kind, 1 - 2 * guard, fc)
             if self.t >= t_end:
                 return
 
@@ -158,41 +158,32 @@ class Damper:
     def _switch(self, mode, side):
         self.mode, self.side, self.fresh = mode, side, True
 
-    def _handle(self, seg, tau, kind, fc):
-        if self.mode == STICK or self.mode == OUTSIDE:
+    def _handle(self, kind, side, fc):
+        """Event of kind CROSS or TOUCH; in free flight `side` is the stop (+1: guard 0)."""
+        if self.mode != FREE:
             self._switch(FREE, 0)  # release from the stop, or re-entry into the gap
             return
-        side = seg.side(tau)
         self._snap(side)
         if kind == CROSS:
             self._impact(side)
-        gap, g1, g2, g3 = self._guard_derivs(seg, side, fc)
-        n0, n1, n2, n3 = seg.noise
-        if self.p.contact_form == DISPLACEMENT:
-            rebound = g1  # separation speed after the impact (0 after a touch)
-            if g2 < -n2 and rebound * rebound <= -2.0 * g2 * CHATTER_HEIGHT * n0:
-                self._collapse(side)
-                self._switch(STICK, side)
-                return
-            order, dk = classify(g1, g2, g3, resolution_speed(g2, n0, n1, n2), n2, n3)
-            if dk < 0.0:  # touch pressed inward at third order
-                self._collapse(side)
-                self._switch(STICK, side)
-                return
-            self._switch(FREE, 0)
-            return
-        order, dk = classify(g1, g2, g3, resolution_speed(g2, n0, n1, n2), n2, n3)
-        if dk < 0.0:
-            self._switch(OUTSIDE, side)  # the pair still closes: pass through the stop
-        else:
-            self._switch(FREE, 0)
+        mode = self._after_contact(side, fc, kind == CROSS)
+        self._switch(mode, 0 if mode == FREE else side)
 
-    def _guard_derivs(self, seg, side, fc):
-        """Gap guard D - side z and its derivatives at the current (post-event) state."""
-        p = self.p
-        f = Flight(p, self.x, self.v, self.y, self.u, fc, p.Omega * self.t + p.phi, 0.0)
-        z, z1, z2, z3 = f.gap_derivs(0.0)
-        return p.D - side * z, -side * z1, -side * z2, -side * z3
+    def _after_contact(self, side, fc, impacted):
+        """Mode after a contact on `side`: FREE, STICK (displacement) or OUTSIDE (angle form)."""
+        seg = self._segment(fc, 0.0)
+        g, g1, g2, g3 = seg.derivs(0.0, 0 if side > 0 else 1)
+        n0, n1, n2, n3 = seg.noise
+        _, first = classify(g1, g2, g3, resolution_speed(g2, n0, n1, n2), n2, n3)
+        if self.p.contact_form != DISPLACEMENT:
+            return OUTSIDE if first < 0.0 else FREE  # still closing: pass through the stop
+        # rebound rises less than CHATTER_HEIGHT rounding units while pressed in: the
+        # rest of the chatter sequence collapses into one plastic impact
+        chatter_ends = g2 < -n2 and g1 * g1 <= -2.0 * g2 * CHATTER_HEIGHT * n0
+        if chatter_ends or first < 0.0:
+            self._collapse(side, impacted)
+            return STICK
+        return FREE
 
     def _snap(self, side):
         """Put the pair exactly on the stop (removes rounding-level overlap)."""
@@ -209,18 +200,20 @@ class Damper:
         if self.on_impact is not None:
             self.on_impact(self.t, side, u - v, self.u - self.v, loss)
 
-    def _collapse(self, side):
-        """Plastic impact that ends a chatter sequence (or a touch) on stop `side`."""
+    def _collapse(self, side, counted):
+        """Plastic impact that ends a chatter sequence on stop `side` (counted as an impact),
+        or evens out the rounding-level relative speed of a touch (not counted)."""
         p = self.p
         v, u = self.v, self.u
         if u == v:
             return
         loss = impact_loss(p.M, p.mu, 0.0, v, u)
         self.v, self.u = collide(v, u, p.mu, 0.0)
-        self.impacts += 1
         self._account(loss)
-        if self.on_impact is not None:
-            self.on_impact(self.t, side, u - v, 0.0, loss)
+        if counted:
+            self.impacts += 1
+            if self.on_impact is not None:
+                self.on_impact(self.t, side, u - v, 0.0, loss)
 
     def _account(self, loss):
         self.dissipated += loss

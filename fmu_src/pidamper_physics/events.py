@@ -1,27 +1,29 @@
 """Event location by conservative advancement: a zero of a guard cannot be missed.
 
-A segment exposes a guard g(tau) that is positive while its mode holds (the gap
-to the nearer stop in free flight, the contact force while riding a stop, the
+A segment exposes guards g_i(tau) that are positive while its mode holds (the
+gaps to the two stops in free flight, the contact force while riding a stop, the
 overlap while the angle form passes through a stop), plus
 
-    seg.value(tau)  -> (g, g')                 cheap, used while far from zero
-    seg.derivs(tau) -> (g, g', g'', g''')      used only next to a zero
-    seg.bounds      =  (B2, B3, B4)            bounds of |g''|, |g'''|, |g''''| on the segment
-    seg.noise       =  (n0, n1, n2, n3)        rounding level of g, g', g'', g'''
-    seg.clear       =  True when g cannot reach zero on the whole segment
+    seg.values(tau)    -> ((g_i, dg_i), ...)        cheap, used while far from zero
+    seg.derivs(tau, i) -> (g, dg, d2g, d3g)        of guard i, used only next to a zero
+    seg.bounds         =  (B2, B3, B4)             bounds of the 2nd..4th derivatives (all guards)
+    seg.noise          =  (n0, n1, n2, n3)         rounding level of g and its first three derivatives
+    seg.clear          =  True when no guard can reach zero on the whole segment
 
 Far from zero the solver steps by the smallest positive root of the Taylor lower
-bound g + g' s - B2 s^2 / 2, so g stays positive on every step: no contact can be
-jumped over, grazing ones included.  Next to zero (g <= n0) the point is
-classified by the first derivative that rises above its rounding level:
+bound g + dg s - B2 s^2 / 2 of every guard, so all guards stay positive on every
+step: no contact can be jumped over, grazing ones included.  Next to zero
+(g <= n0) the point is classified by the first derivative that rises above its
+rounding level:
 
-- g' < -v_res: a transversal crossing, refined by Newton to machine precision
-  (v_res = max(n1, sqrt(2 (|g''| + n2) n0)) is the smallest approach speed whose
+- dg < -v_res: a transversal crossing, refined by Newton to machine precision
+  (v_res = max(n1, sqrt(2 (|d2g| + n2) n0)) is the smallest approach speed whose
   crossing float64 positions can resolve);
 - first significant derivative negative: the guard is pressed to zero at an
   approach speed below resolution (a touch that continues inward);
 - positive, or nothing significant: the guard leaves zero; a departure step of
-  the order of that derivative keeps g above rounding level.
+  the order of that derivative (never longer than the safe step of the other
+  guards) lifts it above rounding level.
 
 Every pass of the loop advances tau by at least one ulp or returns, so the
 search terminates.  Right after a mode switch (``fresh``) the point tau = 0 is
@@ -77,46 +79,55 @@ def departure_step(order, dk, vres, bounds):
 
 
 def locate(seg, tau_end, fresh=False):
-    """First zero of seg's guard in [0, tau_end]: (tau, CROSS or TOUCH), or None."""
+    """First zero of a guard of seg in [0, tau_end]: (tau, CROSS or TOUCH, guard index), or None."""
     if tau_end <= 0.0 or seg.clear:
         return None
     n0, n1, n2, n3 = seg.noise
     b2 = seg.bounds[0]
     tau = 0.0
     while True:
-        g, g1 = seg.value(tau)
-        if g > n0:
-            nxt = tau + safe_step(g, g1, b2)
+        step = _INF
+        near = -1
+        values = seg.values(tau)
+        for i, (g, g1) in enumerate(values):
+            if g <= n0:
+                near = i
+            else:
+                step = min(step, safe_step(g, g1, b2))
+        if near < 0:
+            nxt = tau + step
             if nxt >= tau_end:
                 return None
             if nxt > tau:
                 tau = nxt
                 continue
-            # the zero lies within one ulp of tau: classify it here
-        g, g1, g2, g3 = seg.derivs(tau)
+            near = min(range(len(values)), key=lambda i: values[i][0])  # zero within one ulp of tau
+            step = _INF
+        g, g1, g2, g3 = seg.derivs(tau, near)
         vres = resolution_speed(g2, n0, n1, n2)
         order, dk = classify(g1, g2, g3, vres, n2, n3)
         if not (fresh and tau == 0.0):
             if g < -n0:
-                return tau, TOUCH  # already past zero: a jump of the guard at a step start
+                return tau, TOUCH, near  # already past zero: a jump of the guard at a step start
             if order == 1 and dk < 0.0:
-                return min(_newton(seg, tau, g, g1), tau_end), CROSS
+                return min(_newton(seg, near, tau, g, g1), tau_end), CROSS, near
             if dk < 0.0:
-                return tau, TOUCH
-        step = departure_step(order, dk, vres, seg.bounds)
+                return tau, TOUCH, near
+        # departing, flat, or a contradiction right after a switch: step away
+        step = min(step, departure_step(order, dk, vres, seg.bounds))
         tau = max(tau + step, math.nextafter(tau, _INF))
         if tau >= tau_end:
             return None
 
 
-def _newton(seg, tau, g, g1):
-    """Root of the guard next to tau (transversal, so Newton converges quadratically)."""
+def _newton(seg, i, tau, g, g1):
+    """Root of guard i next to tau (transversal, so Newton converges quadratically)."""
     for _ in range(6):
         nxt = max(tau - g / g1, 0.0)
         if nxt == tau:
             break
         tau = nxt
-        g, g1 = seg.value(tau)
+        g, g1 = seg.values(tau)[i]
         if g1 >= 0.0:
             break
     return tau

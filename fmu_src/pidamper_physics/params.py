@@ -12,6 +12,12 @@ import math
 DISPLACEMENT = 0
 ANGLE = 1
 
+#: default parameters (the FMU's start values): the paper's free-vibration case
+DEFAULTS = {"g": 9.81, "M": 1.0, "mu": 0.1, "L2": 1.0, "FR": 5.0, "d": 0.1, "d_angle": 0.1, "e": 0.2,
+            "contact_form": DISPLACEMENT, "F0": 0.0, "Omega": math.sqrt(9.81 / 1.0), "phi": 0.0}
+#: default initial state [rad, rad/s]: particle at rest, primary started by a velocity
+INITIAL_DEFAULTS = {"theta_0": 0.0, "theta_dot_0": 0.5, "alpha_0": 0.0, "alpha_dot_0": 0.0}
+
 
 class ParameterError(ValueError):
     """A parameter or input outside its allowed range; names the value and the rule."""
@@ -39,8 +45,10 @@ class Params:
 
     NAMES = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi")
 
-    def __init__(self, g=9.81, M=1.0, mu=0.1, L2=1.0, FR=5.0, d=0.1, d_angle=0.1, e=0.2,
-                 contact_form=DISPLACEMENT, F0=0.0, Omega=0.0, phi=0.0):
+    def __init__(self, g=DEFAULTS["g"], M=DEFAULTS["M"], mu=DEFAULTS["mu"], L2=DEFAULTS["L2"],
+                 FR=DEFAULTS["FR"], d=DEFAULTS["d"], d_angle=DEFAULTS["d_angle"], e=DEFAULTS["e"],
+                 contact_form=DEFAULTS["contact_form"], F0=DEFAULTS["F0"], Omega=DEFAULTS["Omega"],
+                 phi=DEFAULTS["phi"]):
         for name in ("g", "M", "L2", "FR", "d", "d_angle"):
             _positive(name, locals()[name])
         if check_finite("mu", mu) < 0.0:

@@ -1,7 +1,7 @@
 """The three smooth motions between events, each with the guard that ends it.
 
-- Flight: both pendulums swing freely; guard = gap to the nearer stop,
-  D - |cx x - cy y| (cx = cy = 1 in the displacement form, 1/L2 and 1/L1 in the
+- Flight: both pendulums swing freely; guards = gaps to the two stops,
+  D -+ (cx x - cy y) (cx = cy = 1 in the displacement form, 1/L2 and 1/L1 in the
   angle form).
 - Outside (angle form only): the pair passes through stop `side` after a
   non-separating impact; guard = side (cx x - cy y) - D, the overlap, which ends
@@ -15,7 +15,6 @@ harmonic at phase psi = Omega t0 + phi.  See events.py for the guard protocol.
 """
 import math
 
-from .events import safe_step
 from .oscillator import Oscillator
 
 _EPS = 2.220446049250313e-16
@@ -68,27 +67,14 @@ class Flight:
         cx, cy = self.cx, self.cy
         return cx * x - cy * y, cx * v - cy * u, cx * x2 - cy * y2, cx * x3 - cy * y3
 
-    def side(self, tau):
-        """The stop the gap is nearer to at tau: +1 (z = +D) or -1 (z = -D)."""
-        return 1 if self.gap(tau)[0] >= 0.0 else -1
-
-    def value(self, tau):
-        """Guard of the stop that binds first: the nearer one if within rounding of it,
-        else the one whose Taylor lower bound reaches zero first."""
+    def values(self, tau):
+        """Guards of stop +1 (D - z) and stop -1 (D + z) with their rates."""
         z, dz = self.gap(tau)
-        qp = self.D - z
-        qm = self.D + z
-        n0 = self.noise[0]
-        if qp <= n0 or qm <= n0:
-            return (qp, -dz) if qp <= qm else (qm, dz)
-        b2 = self.bounds[0]
-        if safe_step(qp, -dz, b2) <= safe_step(qm, dz, b2):
-            return qp, -dz
-        return qm, dz
+        return (self.D - z, -dz), (self.D + z, dz)
 
-    def derivs(self, tau):
+    def derivs(self, tau, i):
         z, z1, z2, z3 = self.gap_derivs(tau)
-        if z >= 0.0:
+        if i == 0:
             return self.D - z, -z1, -z2, -z3
         return self.D + z, z1, z2, z3
 
@@ -103,12 +89,12 @@ class Outside(Flight):
         self.sgn = sgn
         self.clear = False
 
-    def value(self, tau):
+    def values(self, tau):
         z, dz = self.gap(tau)
         s = self.sgn
-        return s * z - self.D, s * dz
+        return ((s * z - self.D, s * dz),)
 
-    def derivs(self, tau):
+    def derivs(self, tau, i=0):
         z, z1, z2, z3 = self.gap_derivs(tau)
         s = self.sgn
         return s * z - self.D, s * z1, s * z2, s * z3
@@ -143,13 +129,13 @@ class Stick:
         x, v, _, _ = self.osc.state(tau)
         return x, v, x - self.sgn * self.d, v
 
-    def value(self, tau):
+    def values(self, tau):
         x, v, sf, cf = self.osc.state(tau)
         s = self.sgn
-        return (s * (self.k * (x - self.osc.xe) + self.base + self.a * sf),
-                s * (self.k * v + self.a * self.om * cf))
+        return ((s * (self.k * (x - self.osc.xe) + self.base + self.a * sf),
+                 s * (self.k * v + self.a * self.om * cf)),)
 
-    def derivs(self, tau):
+    def derivs(self, tau, i=0):
         x, v, x2, x3, sf, cf = self.osc.derivs(tau)
         s, k, a, om = self.sgn, self.k, self.a, self.om
         return (s * (k * (x - self.osc.xe) + self.base + a * sf), s * (k * v + a * om * cf),

@@ -5,8 +5,8 @@ FmuStepper / CoreStepper (step-by-step drivers with save/restore).
 """
 from . import forcing, measures
 from .fmu import find_fmu
-from .simulation import OUTPUTS, RunResult, resonance, run
+from .simulation import OUTPUTS, FmuError, RunResult, resonance, run
 from .stepper import CoreStepper, FmuStepper
 
-__all__ = ["OUTPUTS", "CoreStepper", "FmuStepper", "RunResult", "find_fmu", "forcing", "measures",
+__all__ = ["OUTPUTS", "CoreStepper", "FmuError", "FmuStepper", "RunResult", "find_fmu", "forcing", "measures",
            "resonance", "run"]

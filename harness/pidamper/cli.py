@@ -12,7 +12,7 @@ from pathlib import Path
 
 from . import forcing as forcing_mod
 from .fmu import find_fmu
-from .simulation import resonance, run
+from .simulation import FmuError, resonance, run
 from .stepper import FmuStepper
 from . import measures
 
@@ -142,7 +142,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     try:
         return args.func(args)
-    except (ValueError, FileNotFoundError, KeyError) as err:
+    except (ValueError, FileNotFoundError, KeyError, FmuError) as err:
         print(f"pidamper: error: {err}", file=sys.stderr)
         return 2
 

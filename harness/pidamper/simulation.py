@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import fmpy
 import numpy as np
+from fmpy.fmi1 import FMICallException
 
 from .fmu import find_fmu
 from .forcing import Forcing, none
@@ -36,6 +37,24 @@ class RunResult:
                    header=",".join(names), comments="", fmt="%.17g")
 
 
+class FmuError(RuntimeError):
+    """An FMI call failed; the message includes what the model logged."""
+
+
+class FmuMessages:
+    """fmpy logger callback that keeps the model's messages (it logs only problems)."""
+
+    def __init__(self):
+        self.messages = []
+
+    def __call__(self, component, instance, status, category, message):
+        text = message.decode(errors="replace") if isinstance(message, bytes) else str(message)
+        self.messages.append(text.strip())
+
+    def text(self):
+        return " | ".join(self.messages)
+
+
 def resonance(parameters):
     """Primary natural frequency w2 = sqrt(g / L2) [rad/s] for the given parameters."""
     return math.sqrt(parameters.get("g", 9.81) / parameters.get("L2", 1.0))
@@ -52,10 +71,14 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
     n = int(round((stop_time - start_time) / output_interval))
     grid = start_time + output_interval * np.arange(n + 1)
     signal = forcing.input_array(grid)
+    messages = FmuMessages()
     cpu = time.process_time()
-    data = fmpy.simulate_fmu(path, start_time=start_time, stop_time=stop_time, output_interval=output_interval,
-                             start_values=start_values, input=signal, output=list(OUTPUTS),
-                             step_finished=step_finished)
+    try:
+        data = fmpy.simulate_fmu(path, start_time=start_time, stop_time=stop_time, output_interval=output_interval,
+                                 start_values=start_values, input=signal, output=list(OUTPUTS),
+                                 step_finished=step_finished, debug_logging=True, logger=messages)
+    except FMICallException as err:
+        raise FmuError(f"{err}; the model says: {messages.text() or '(nothing)'}") from err
     cpu = time.process_time() - cpu
     data = _with_force(data, forcing)
     return RunResult(data, path, start_values, forcing, output_interval, cpu)

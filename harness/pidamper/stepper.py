@@ -8,11 +8,10 @@ start of each advance and held (as a co-simulation host does).
 import shutil
 
 import fmpy
-from fmpy.fmi2 import FMU2Slave
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave, fmi2Fatal
 
-from pidamper_physics import Damper, Params
-
-_INITIAL = ("theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0")
+from pidamper_physics import INITIAL_DEFAULTS, Damper, Params
 
 
 class FmuStepper:
@@ -26,14 +25,15 @@ class FmuStepper:
                              modelIdentifier=md.coSimulation.modelIdentifier, instanceName=instance_name)
         self.forcing = forcing
         self.t = float(start_time)
+        self.fatal = False  # after fmi2Fatal the FMI standard forbids any further call
         fmu = self.fmu
         fmu.instantiate()
         try:
-            fmu.setupExperiment(startTime=self.t)
-            fmu.enterInitializationMode()
+            self._call(fmu.setupExperiment, startTime=self.t)
+            self._call(fmu.enterInitializationMode)
             for name, value in (start_values or {}).items():
                 self.set(name, value)
-            fmu.exitInitializationMode()
+            self._call(fmu.exitInitializationMode)
         except Exception:
             self.close()
             raise
@@ -44,9 +44,9 @@ class FmuStepper:
         if var is None:
             raise KeyError(f"{name!r} is not a variable of the FMU")
         if var.type == "Integer":
-            self.fmu.setInteger([var.valueReference], [int(value)])
+            self._call(self.fmu.setInteger, [var.valueReference], [int(value)])
         else:
-            self.fmu.setReal([var.valueReference], [float(value)])
+            self._call(self.fmu.setReal, [var.valueReference], [float(value)])
 
     def get(self, name):
         var = self._vars[name]
@@ -57,8 +57,19 @@ class FmuStepper:
     def advance(self, t_end):
         if self.forcing is not None:
             self.set("F", float(self.forcing.value(self.t)))
-        self.fmu.doStep(currentCommunicationPoint=self.t, communicationStepSize=t_end - self.t)
-        self.t = t_end
+        self.do_step(self.t, t_end - self.t)
+
+    def do_step(self, current_time, step_size):
+        """fmi2DoStep as a host would call it (the times are not checked here)."""
+        self._call(self.fmu.doStep, currentCommunicationPoint=current_time, communicationStepSize=step_size)
+        self.t = current_time + step_size
+
+    def _call(self, function, *args, **kwargs):
+        try:
+            return function(*args, **kwargs)
+        except FMICallException as err:
+            self.fatal = self.fatal or err.status == fmi2Fatal
+            raise
 
     def read(self):
         """(theta, theta_dot) now."""
@@ -76,11 +87,15 @@ class FmuStepper:
         self.fmu.freeFMUstate(saved[1])
 
     def close(self):
-        try:
-            self.fmu.terminate()
-        except Exception:
-            pass
-        self.fmu.freeInstance()
+        """Terminate and free the instance; after fmi2Fatal only the files are removed (the
+        standard forbids further calls, and pythonfmu 0.7 has already released its objects:
+        freeing the instance again would free them twice)."""
+        if not self.fatal:
+            try:
+                self.fmu.terminate()
+            except FMICallException:
+                pass
+            self.fmu.freeInstance()
         shutil.rmtree(self._dir, ignore_errors=True)
 
     def __enter__(self):
@@ -91,11 +106,12 @@ class FmuStepper:
 
 
 class CoreStepper:
-    """The physics core (pidamper_physics.Damper) behind the same protocol."""
+    """The physics core (pidamper_physics.Damper) behind the same protocol; start values
+    default as in the FMU."""
 
     def __init__(self, start_values=None, forcing=None, start_time=0.0):
         values = dict(start_values or {})
-        initial = [float(values.pop(k, 0.0)) for k in _INITIAL]
+        initial = [float(values.pop(k, default)) for k, default in INITIAL_DEFAULTS.items()]
         params = {k: values.pop(k) for k in list(values) if k in Params.NAMES}
         if values:
             raise KeyError(f"unknown parameters {sorted(values)!r}")
