@@ -129,3 +129,19 @@ def test_cli_run_writes_csv_and_reports_errors(tmp_path, capsys):
     assert main(["run", "--forcing", "csv", "--csv", str(bad)]) == 2
     assert "not allowed" in capsys.readouterr().err
     assert main(["run", "-p", "e=1.5", "--periods", "1"]) == 2
+
+
+def test_agrees_with_independent_prototypes_of_the_physics_notes():
+    """Figures an independent prototype measured (shared/notes/physics.md, sections 6 and 7),
+    to the digits quoted there: forced ratio 0.40 / 0.16 at 10 / 25 periods (w2 = 1, mu = 0.1,
+    sine forcing F0/M = 0.01), free-decay damping 0.032 (displacement form, A0 = 0.7 rad)."""
+    base = {"g": 1.0, "L2": 1.0, "mu": 0.1, "e": 0.2, "d": 0.1, "FR": 5.0, "F0": 0.01, "Omega": 1.0, "phi": 0.0,
+            "theta_dot_0": 0.0}
+    for periods, expected in ((10, 0.40), (25, 0.16)):
+        ratio, _, bare = measures.amplitude_ratio(CoreStepper(base), CoreStepper({**base, "mu": 0.0}),
+                                                  periods * 2 * math.pi, 2 * math.pi / 100)
+        assert round(ratio, 2) == expected
+        assert abs(bare.theta) == pytest.approx(math.pi * periods / 100, rel=1e-12)  # F0/(2 M w2) t at t = N T
+    free = {"mu": 0.1, "FR": 5.0, "d": 0.1, "e": 0.2, "theta_dot_0": 0.7 * W2}
+    ratios, _ = measures.damping_ratio(CoreStepper(free), PERIOD)
+    assert round(ratios["printed"], 3) == 0.032
