@@ -17,7 +17,6 @@ import uuid
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real
-from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
 from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, Damper, ParameterError, Params
@@ -126,9 +125,12 @@ class PendulumImpactDamper(Fmi2Slave):
         return Damper(params, self.theta_0, self.theta_dot_0, self.alpha_0, self.alpha_dot_0, self._t0)
 
     def _fail(self, name, value, allowed):
-        message = f"{self.instance_name}: {name} = {value!r} is not allowed: {allowed}"
-        self.log(message, Fmi2Status.error)
-        raise ValueError(message)
+        """Refuse the call: the exception becomes fmi2Fatal, and pythonfmu logs its text
+        (naming the variable, its value and the rule) through the FMI logger.  The message
+        is deliberately not queued with self.log as well: pythonfmu 0.7 flushes that queue
+        while the Python exception is still pending, which calls the host's logger in an
+        invalid interpreter state (seen as heap corruption in fmpy hosts)."""
+        raise ValueError(f"{self.instance_name}: {name} = {value!r} is not allowed: {allowed}")
 
     def _core_now(self):
         if self._core is None:

@@ -7,6 +7,7 @@ This is the public API a user scripting fmpy would use:
     result.data["theta"]        # structured array, one row per communication point
 """
 import math
+import re
 import time
 from dataclasses import dataclass, field
 
@@ -52,7 +53,13 @@ class FmuMessages:
         self.messages.append(text.strip())
 
     def text(self):
-        return " | ".join(self.messages)
+        """The messages; a pythonfmu fatal-error report is reduced to the model's own words."""
+        return " | ".join(_model_words(m) for m in self.messages)
+
+
+def _model_words(message):
+    found = re.search(r"\w+Error\(['\"](.*)['\"]\)\s*$", message, flags=re.S)
+    return found.group(1) if found else message
 
 
 def resonance(parameters):
@@ -78,7 +85,7 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
                                  start_values=start_values, input=signal, output=list(OUTPUTS),
                                  step_finished=step_finished, debug_logging=True, logger=messages)
     except FMICallException as err:
-        raise FmuError(f"{err}; the model says: {messages.text() or '(nothing)'}") from err
+        raise FmuError(f"{messages.text() or '(the model logged nothing)'} [{err}]") from err
     cpu = time.process_time() - cpu
     data = _with_force(data, forcing)
     return RunResult(data, path, start_values, forcing, output_interval, cpu)
