@@ -145,3 +145,17 @@ def test_agrees_with_independent_prototypes_of_the_physics_notes():
     free = {"mu": 0.1, "FR": 5.0, "d": 0.1, "e": 0.2, "theta_dot_0": 0.7 * W2}
     ratios, _ = measures.damping_ratio(CoreStepper(free), PERIOD)
     assert round(ratios["printed"], 3) == 0.032
+
+
+def test_a_run_failing_half_way_keeps_its_rows():
+    """A force that turns non-finite at t = 1 s: the FMU refuses that step, and the rows
+    before it come back with the error."""
+    from pidamper import FmuError
+
+    bad = forcing.Forcing("csv", {"file": "x"}, table=(np.array([0.0, 0.999, 1.0, 2.0]),
+                                                        np.array([0.0, 0.0, np.inf, np.inf])))
+    with pytest.raises(FmuError) as err:
+        run({}, bad, stop_time=2.0, output_interval=0.1)
+    assert "F = inf is not allowed" in str(err.value)
+    partial = err.value.partial.data
+    assert partial["time"][-1] == pytest.approx(1.0) and np.isfinite(partial["theta"]).all()

@@ -57,7 +57,14 @@ def cmd_run(args):
     params = dict(args.param or [])
     signal = _forcing(args, params)
     stop = args.stop_time or args.periods * 2 * math.pi / resonance(params)
-    result = run(params, signal, stop_time=stop, output_interval=args.output_interval, fmu=args.fmu)
+    try:
+        result = run(params, signal, stop_time=stop, output_interval=args.output_interval, fmu=args.fmu)
+    except FmuError as err:
+        if err.partial is not None and args.csv_out:
+            err.partial.write_csv(args.csv_out)
+            t_last = err.partial.data["time"][-1]
+            print(f"wrote {args.csv_out} up to t = {t_last:.6g} s, where the run failed", file=sys.stderr)
+        raise
     d = result.data
     print(f"FMU {result.fmu}")
     print(f"forcing {signal.kind} {signal.args}; {len(d) - 1} steps of {args.output_interval} s to t = {d['time'][-1]:.6g} s")

@@ -39,7 +39,12 @@ class RunResult:
 
 
 class FmuError(RuntimeError):
-    """An FMI call failed; the message includes what the model logged."""
+    """An FMI call failed; the message includes what the model logged, and `partial`
+    holds the rows recorded before the failure (a RunResult, or None)."""
+
+    def __init__(self, message, partial=None):
+        super().__init__(message)
+        self.partial = partial
 
 
 class FmuMessages:
@@ -79,13 +84,23 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
     grid = start_time + output_interval * np.arange(n + 1)
     signal = forcing.input_array(grid)
     messages = FmuMessages()
+    seen = {}
+
+    def watch(t, recorder):  # keeps the recorder, so a failed run still returns its rows
+        seen["recorder"] = recorder
+        return step_finished(t, recorder) if step_finished is not None else True
+
     cpu = time.process_time()
     try:
         data = fmpy.simulate_fmu(path, start_time=start_time, stop_time=stop_time, output_interval=output_interval,
                                  start_values=start_values, input=signal, output=list(OUTPUTS),
-                                 step_finished=step_finished, debug_logging=True, logger=messages)
+                                 step_finished=watch, debug_logging=True, logger=messages)
     except FMICallException as err:
-        raise FmuError(f"{messages.text() or '(the model logged nothing)'} [{err}]") from err
+        partial = None
+        if "recorder" in seen:
+            partial = RunResult(_with_force(seen["recorder"].result(), forcing), path, start_values, forcing,
+                                output_interval, time.process_time() - cpu)
+        raise FmuError(f"{messages.text() or '(the model logged nothing)'} [{err}]", partial) from err
     cpu = time.process_time() - cpu
     data = _with_force(data, forcing)
     return RunResult(data, path, start_values, forcing, output_interval, cpu)
