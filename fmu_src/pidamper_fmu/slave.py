@@ -65,7 +65,24 @@ OUTPUTS = (
     ("work_in", Real, "J", "work done by the applied forces so far, integral of F v dt", False),
 )
 
-_UNITS = {"m": {"m": 1}, "m/s2": {"m": 1, "s": -2}, "kg": {"kg": 1}, "1": {},
+# per-step impact record: read after fmi2DoStep; slots beyond impacts_in_step hold zeros
+IMPACT_SLOTS = 16
+IMPACT_FIELDS = (
+    ("t", Real, "s", "time"),
+    ("side", Integer, None, "stop hit: +1 (z = +d) or -1 (z = -d)"),
+    ("v_rel_before", Real, "m/s", "particle minus primary velocity before"),
+    ("v_rel_after", Real, "m/s", "particle minus primary velocity after"),
+    ("energy_lost", Real, "J", "energy lost"),
+    ("theta", Real, "rad", "primary angle"),
+)
+RECORD_OUTPUTS = (
+    ("impacts_in_step", Integer, None, "impacts applied during the last communication step", False),
+    ("impacts_unrecorded", Integer, None,
+     f"impacts of the last step beyond the {IMPACT_SLOTS} record slots (counted, not recorded)", False),
+) + tuple((f"impact[{k + 1}].{field}", kind, unit, f"impact {k + 1} of the last step: {desc}", False)
+          for k in range(IMPACT_SLOTS) for field, kind, unit, desc in IMPACT_FIELDS)
+
+_UNITS = {"s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "m": {"m": 1}, "m/s2": {"m": 1, "s": -2}, "kg": {"kg": 1}, "1": {},
           "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "N": {"kg": 1, "m": 1, "s": -2},
           "J": {"kg": 1, "m": 2, "s": -2}}
 
@@ -97,11 +114,33 @@ class PendulumImpactDamper(Fmi2Slave):
                 name, causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.tunable if tunable else Fmi2Variability.fixed,
                 setter=self._setter(name, tunable)))
-        for name, kind, *_ in OUTPUTS:
+        self._slots = [[0.0, 0, 0.0, 0.0, 0.0, 0.0] for _ in range(IMPACT_SLOTS)]
+        self._in_step = 0
+        getters = {name: getattr(self, "_out_" + name) for name, *_ in OUTPUTS}
+        getters["impacts_in_step"] = lambda: self._in_step
+        getters["impacts_unrecorded"] = lambda: max(0, self._in_step - IMPACT_SLOTS)
+        for k in range(IMPACT_SLOTS):
+            for j, (field, *_) in enumerate(IMPACT_FIELDS):
+                getters[f"impact[{k + 1}].{field}"] = self._slot_getter(k, j)
+        for name, kind, *_ in OUTPUTS + RECORD_OUTPUTS:
             self.register_variable(kind(name, causality=Fmi2Causality.output, initial=Fmi2Initial.calculated,
                                         variability=Fmi2Variability.continuous if kind is Real
                                         else Fmi2Variability.discrete,
-                                        getter=getattr(self, "_out_" + name)))
+                                        getter=getters[name]))
+
+    # ---- per-step impact record -------------------------------------------------------
+
+    def _slot_getter(self, k, j):
+        return lambda: self._slots[k][j] if k < self._in_step else 0
+
+    def _record(self, t, side, v_rel_before, v_rel_after, loss):
+        """Core callback, once per impact: fill the next slot (the count goes on past the last)."""
+        n = self._in_step
+        if n < IMPACT_SLOTS:
+            slot = self._slots[n]
+            slot[0], slot[1], slot[2], slot[3], slot[4] = t, side, v_rel_before, v_rel_after, loss
+            slot[5] = self._core.x / self._core.p.L2
+        self._in_step = n + 1
 
     # ---- parameters -----------------------------------------------------------------
 
@@ -122,7 +161,9 @@ class PendulumImpactDamper(Fmi2Slave):
 
     def _build_core(self):
         params = Params(**{name: getattr(self, name) for name in Params.NAMES})
-        return Damper(params, self.theta_0, self.theta_dot_0, self.alpha_0, self.alpha_dot_0, self._t0)
+        core = Damper(params, self.theta_0, self.theta_dot_0, self.alpha_0, self.alpha_dot_0, self._t0)
+        core.on_impact = self._record
+        return core
 
     def _fail(self, name, value, allowed):
         """Refuse the call: the exception becomes fmi2Fatal, and pythonfmu logs its text
@@ -167,6 +208,7 @@ class PendulumImpactDamper(Fmi2Slave):
         force = self.F
         if not math.isfinite(force):
             self._fail("F", force, "the input must be finite")
+        self._in_step = 0
         core.advance(max(current_time + step_size, t), force)
         return True
 
@@ -227,6 +269,8 @@ class PendulumImpactDamper(Fmi2Slave):
         state["_t0"] = self._t0
         state["_initialized"] = self._initialized
         state["_core"] = self._core.get_state() if self._initialized else None
+        state["_in_step"] = self._in_step
+        state["_slots"] = [list(slot) for slot in self._slots]
         return state
 
     def _set_fmu_state(self, state):
@@ -235,6 +279,8 @@ class PendulumImpactDamper(Fmi2Slave):
         self.F = state["F"]
         self._t0 = state["_t0"]
         self._initialized = state["_initialized"]
+        self._in_step = state["_in_step"]
+        self._slots = [list(slot) for slot in state["_slots"]]
         self._core = None
         if self._initialized:
             core = self._build_core()
@@ -247,7 +293,7 @@ class PendulumImpactDamper(Fmi2Slave):
         """pythonfmu's description plus units, ranges, descriptions and a full ModelStructure."""
         root = super().to_xml(model_options)
         info = {name: (unit, lo, hi, desc) for name, _, _, unit, lo, hi, desc in PARAMETERS}
-        info.update({name: (unit, None, None, desc) for name, _, unit, desc, _ in OUTPUTS})
+        info.update({name: (unit, None, None, desc) for name, _, unit, desc, _ in OUTPUTS + RECORD_OUTPUTS})
         info["F"] = ("N", None, None, "horizontal force on the primary mass")
         index = {}
         for i, sv in enumerate(root.find("ModelVariables"), start=1):
@@ -268,7 +314,7 @@ class PendulumImpactDamper(Fmi2Slave):
             structure.remove(child)
         outputs = SubElement(structure, "Outputs")
         initial = SubElement(structure, "InitialUnknowns")
-        for name, _, _, _, feedthrough in OUTPUTS:
+        for name, _, _, _, feedthrough in OUTPUTS + RECORD_OUTPUTS:
             deps = str(index["F"]) if feedthrough else ""
             SubElement(outputs, "Unknown", index=str(index[name]), dependencies=deps)
             SubElement(initial, "Unknown", index=str(index[name]))

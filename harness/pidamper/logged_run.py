@@ -1,0 +1,196 @@
+"""A run logged to MCAP and Rerun while it goes, and the replay of an MCAP into Rerun.
+
+The run is fmpy.simulate_fmu with a step_finished hook that takes each new row of
+fmpy's recorder plus the FMU's per-step impact record, and hands blocks of rows
+to both writers.  If the run fails half-way (an FMI error, bad input, Ctrl-C),
+what was collected is written, a note says where and why it stopped, and both
+files are closed so they read back up to the failure.
+"""
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import fmpy
+import numpy as np
+
+from . import rerun_log
+from .fmu import find_fmu
+from .forcing import none
+from .mcap_log import McapLog, read_run
+from .records import IMPACT_DTYPE, STATE_DTYPE, STATE_FIELDS, geometry, run_info
+from .simulation import FmuError, run
+
+IMPACT_SLOTS = 16
+_SLOT_REALS = ("t", "v_rel_before", "v_rel_after", "energy_lost", "theta")
+
+
+@dataclass
+class LoggedRun:
+    result: object  # simulation.RunResult
+    mcap: Path
+    rrd: Path
+    impacts_recorded: int
+    impacts_unrecorded: int
+    cpu_time: float  # s, the whole logged run
+
+
+class Sinks:
+    """The MCAP writer and the Rerun recording of one run, fed the same blocks."""
+
+    def __init__(self, info, mcap_path=None, rrd_path=None, serve=False, connect=None):
+        self.info = info
+        self.mcap = McapLog(mcap_path, info) if mcap_path else None
+        self.rec = None
+        if rrd_path or serve or connect:
+            self.rec = rerun_log.open_recording(info, rrd_path, serve, connect)
+            rerun_log.log_start(self.rec, info)
+
+    def write(self, states, impacts):
+        if self.mcap:
+            self.mcap.write(states, impacts)
+        if self.rec:
+            rerun_log.log_block(self.rec, self.info, states, impacts)
+
+    def note(self, t, level, text):
+        if self.mcap:
+            self.mcap.note(t, level, text)
+        if self.rec:
+            rerun_log.log_note(self.rec, t, level, text)
+
+    def flush(self):
+        if self.mcap:
+            self.mcap.flush()
+        if self.rec:
+            self.rec.flush()
+
+    def close(self):
+        if self.mcap:
+            self.mcap.close()
+        if self.rec:
+            self.rec.flush()
+            self.rec.disconnect()
+
+
+class Collector:
+    """step_finished hook: turns recorder rows and impact records into blocks."""
+
+    def __init__(self, sinks, forcing, start_time, block):
+        self.sinks, self.forcing, self.block = sinks, forcing, block
+        self.done = 0  # recorder rows already taken
+        self.states, self.impacts = [], []
+        self.last_t = start_time
+        self.recorded = self.unrecorded = 0
+        self.vr = None
+
+    def __call__(self, t, recorder):
+        if self.vr is None:
+            self._bind(recorder)
+        fmu = recorder.fmu
+        rows = recorder.rows
+        for row in rows[self.done:]:
+            self.states.append(tuple(row[i] for i in self.columns))
+            self.forces.append(float(self.forcing.value(self.last_t)))
+            self.last_t = row[0]
+        self.done = len(rows)
+        n, total = fmu.getInteger(self.vr_counts)
+        if n:
+            self._take_impacts(fmu, n, total)
+        if len(self.states) >= self.block:
+            self.flush()
+        return True
+
+    def _bind(self, recorder):
+        md = recorder.modelDescription
+        vr = {v.name: v.valueReference for v in md.modelVariables}
+        names = [c[0] for c in recorder.cols]
+        self.columns = [names.index(f) for f in STATE_FIELDS if f != "F"]
+        self.forces = []
+        self.vr_counts = [vr["impacts_in_step"], vr["impacts"]]
+        self.vr_reals = [[vr[f"impact[{k + 1}].{f}"] for f in _SLOT_REALS] for k in range(IMPACT_SLOTS)]
+        self.vr_sides = [vr[f"impact[{k + 1}].side"] for k in range(IMPACT_SLOTS)]
+        self.vr = vr
+
+    def _take_impacts(self, fmu, n, total):
+        k = min(n, IMPACT_SLOTS)
+        reals = fmu.getReal([v for slot in self.vr_reals[:k] for v in slot])
+        sides = fmu.getInteger(self.vr_sides[:k])
+        first = total - n + 1
+        for j in range(k):
+            t, before, after, lost, theta = reals[5 * j:5 * j + 5]
+            self.impacts.append((t, sides[j], before, after, lost, theta, first + j))
+        self.recorded += k
+        if n > k:
+            self.unrecorded += n - k
+            self.sinks.note(self.last_t, "warning",
+                            f"{n - k} of the {n} impacts in the step ending at t = {self.last_t:.9g} s were counted "
+                            f"but not recorded individually (the FMU records {IMPACT_SLOTS} per step)")
+
+    def flush(self):
+        if not self.states and not self.impacts:
+            return
+        states = np.array([(r[0], f, *r[1:]) for r, f in zip(self.states, self.forces)], dtype=STATE_DTYPE)
+        impacts = np.array(self.impacts, dtype=IMPACT_DTYPE)
+        self.sinks.write(states, impacts)
+        self.states, self.forces, self.impacts = [], [], []
+
+
+def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, out_dir="out", name="run",
+               fmu=None, mcap=True, rrd=True, serve=False, connect=None, block=1000, start_time=0.0):
+    """run() with the MCAP and the .rrd written into out_dir while it goes."""
+    forcing = forcing or none()
+    path = find_fmu(fmu)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    start_values = {**(parameters or {}), **forcing.start_values}
+    info = run_info(path, start_values, forcing, start_time, stop_time, output_interval, geometry(start_values))
+    mcap_path = out / f"{name}.mcap" if mcap else None
+    rrd_path = out / f"{name}.rrd" if rrd else None
+    cpu = time.process_time()
+    sinks = Sinks(info, mcap_path, rrd_path, serve, connect)
+    collector = Collector(sinks, forcing, start_time, block)
+    sinks.note(start_time, "info", f"run {info['recording_id']} started: forcing {forcing.kind} {forcing.args}")
+    try:
+        result = run(parameters, forcing, stop_time, output_interval, fmu=path, start_time=start_time,
+                     step_finished=collector)
+    except BaseException as err:
+        collector.flush()
+        what = "interrupted" if isinstance(err, KeyboardInterrupt) else "failed"
+        reason = str(err) or type(err).__name__
+        sinks.note(collector.last_t, "error", f"run {what} after t = {collector.last_t:.9g} s: {reason}; "
+                                              "the log holds everything up to there")
+        sinks.close()
+        if isinstance(err, FmuError):
+            err.logs = (mcap_path, rrd_path)
+        raise
+    collector.flush()
+    sinks.note(float(result.data["time"][-1]), "info",
+               f"run complete: {int(result.data['impacts'][-1])} impacts, {collector.recorded} recorded "
+               f"individually, {collector.unrecorded} not")
+    sinks.close()
+    return LoggedRun(result, mcap_path, rrd_path, collector.recorded, collector.unrecorded,
+                     time.process_time() - cpu)
+
+
+def replay(mcap_path, rrd_path=None, serve=False, connect=None, block=1000):
+    """Turn a run's MCAP into a Rerun recording with the same content as the live one: the
+    same blocks (states in runs of `block`, each with the impacts up to its last time) and
+    notes, through the same logging function."""
+    info, states, impacts, notes = read_run(mcap_path)
+    sinks = Sinks(info, None, rrd_path, serve, connect)
+    notes = sorted(notes, key=lambda note: note[0])
+    n_note = j = 0
+    for start in range(0, len(states), block):
+        chunk = states[start:start + block]
+        t_last = chunk["time"][-1]
+        while n_note < len(notes) and notes[n_note][0] <= t_last:
+            sinks.note(*notes[n_note])
+            n_note += 1
+        k = j + int(np.searchsorted(impacts["t"][j:], t_last, side="right"))
+        sinks.write(chunk, impacts[j:k])
+        j = k
+    if j < len(impacts):
+        sinks.write(states[:0], impacts[j:])
+    for note in notes[n_note:]:
+        sinks.note(*note)
+    sinks.close()
+    return info

@@ -1,0 +1,181 @@
+"""A run as MCAP: written while the run goes (zstd chunks), read back for replay and tests.
+
+Topics (titled JSON schemas, plotted by Foxglove as they are):
+- /damper/state     one message per communication point (STATE_FIELDS)
+- /damper/impacts   one message per recorded impact (IMPACT_FIELDS)
+- /run/info         the run metadata once (also the MCAP metadata record "pidamper.run")
+- /run/notes        run start, end, failure, impacts not recorded individually
+- /log              foxglove.Log: the impacts and notes as log lines
+- /tf, /scene       foxglove FrameTransforms and SceneUpdate: the two pendulums and the stops in 3D
+Log times are simulation times in integer nanoseconds.
+"""
+import json
+import math
+
+import foxglove
+import numpy as np
+from foxglove.channels import FrameTransformsChannel, LogChannel, SceneUpdateChannel
+from foxglove.mcap import MCAPCompression, MCAPWriteOptions
+from foxglove.messages import (Color, CubePrimitive, FrameTransform, FrameTransforms, LinePrimitive, Log, LogLevel,
+                               Point3, Pose, Quaternion, SceneEntity, SceneUpdate, SpherePrimitive, Timestamp, Vector3)
+from mcap.stream_reader import StreamReader
+from mcap.records import Channel, Message, Metadata
+
+from .records import IMPACT_DTYPE, IMPACT_FIELDS, STATE_DTYPE, STATE_FIELDS, to_ns
+
+METADATA_NAME = "pidamper.run"
+CHUNK_SIZE = 256 * 1024  # bytes before compression: a killed run loses at most one chunk
+
+_INT = {"contact", "impacts", "side", "index"}
+
+
+def _schema(title, fields, descriptions):
+    return {"title": title, "type": "object",
+            "properties": {f: {"type": "integer" if f in _INT else "number", "description": descriptions.get(f, "")}
+                           for f in fields}}
+
+
+STATE_SCHEMA = _schema("pidamper.DamperState", STATE_FIELDS, {
+    "time": "s", "F": "N, external force held over the step ending here", "theta": "rad", "theta_dot": "rad/s",
+    "alpha": "rad", "alpha_dot": "rad/s", "x": "m", "y": "m", "contact": "0 free, +1/-1 riding that stop",
+    "impacts": "impacts so far", "energy": "J", "energy_dissipated": "J", "work_in": "J"})
+IMPACT_SCHEMA = _schema("pidamper.Impact", IMPACT_FIELDS, {
+    "t": "s", "side": "+1 or -1", "v_rel_before": "m/s, particle minus primary", "v_rel_after": "m/s",
+    "energy_lost": "J", "theta": "rad, primary angle at the impact", "index": "1-based impact number"})
+NOTE_SCHEMA = {"title": "pidamper.Note", "type": "object",
+               "properties": {"time": {"type": "number"}, "level": {"type": "string"}, "text": {"type": "string"}}}
+INFO_SCHEMA = {"title": "pidamper.RunInfo", "type": "object"}
+
+_LEVELS = {"info": LogLevel.Info, "warning": LogLevel.Warning, "error": LogLevel.Error}
+
+
+def _json_rows(block, fields):
+    template = "{" + ",".join(f'"{f}":%r' for f in fields) + "}"
+    return [(template % tuple(row)).encode() for row in block.tolist()]
+
+
+def _stamp(ns):
+    return Timestamp(sec=int(ns // 1_000_000_000), nsec=int(ns % 1_000_000_000))
+
+
+def _axis_angle(angle):
+    """Quaternion of a rotation by `angle` about -y (a positive angle swings the bob to +x)."""
+    return Quaternion(x=0.0, y=-math.sin(0.5 * angle), z=0.0, w=math.cos(0.5 * angle))
+
+
+class McapLog:
+    """Writes one run to an MCAP file as it goes."""
+
+    def __init__(self, path, info):
+        self.info = info
+        self.geometry = info["geometry"]
+        self.context = context = foxglove.Context()  # channels close when their context is dropped
+        options = MCAPWriteOptions(compression=MCAPCompression.Zstd, chunk_size=CHUNK_SIZE)
+        self.writer = foxglove.open_mcap(str(path), allow_overwrite=True, context=context, writer_options=options)
+        self.writer.write_metadata(METADATA_NAME, {"recording_id": info["recording_id"], "info": json.dumps(info)})
+        self.state = foxglove.Channel("/damper/state", schema=STATE_SCHEMA, context=context)
+        self.impacts = foxglove.Channel("/damper/impacts", schema=IMPACT_SCHEMA, context=context)
+        self.notes = foxglove.Channel("/run/notes", schema=NOTE_SCHEMA, context=context)
+        self.log = LogChannel("/log", context=context)
+        self.tf = FrameTransformsChannel("/tf", context=context)
+        t0 = int(to_ns(info["start_time"]))
+        self.static = (foxglove.Channel("/run/info", schema=INFO_SCHEMA, context=context),
+                       SceneUpdateChannel("/scene", context=context))
+        self.static[0].log(json.dumps(info), log_time=t0)
+        self.static[1].log(self._scene(t0), log_time=t0)
+
+    def write(self, states, impacts):
+        """Append a block of states (STATE_DTYPE) and impacts (IMPACT_DTYPE)."""
+        times = to_ns(states["time"]).tolist()
+        for ns, payload in zip(times, _json_rows(states, STATE_FIELDS)):
+            self.state.log(payload, log_time=ns)
+        L1 = self.geometry["L1"]
+        L2 = self.geometry["L2"]
+        for ns, theta, alpha in zip(times, states["theta"].tolist(), states["alpha"].tolist()):
+            stamp = _stamp(ns)
+            self.tf.log(FrameTransforms(transforms=[
+                FrameTransform(timestamp=stamp, parent_frame_id="world", child_frame_id="primary",
+                               translation=Vector3(x=0.0, y=0.0, z=L2), rotation=_axis_angle(theta)),
+                FrameTransform(timestamp=stamp, parent_frame_id="world", child_frame_id="particle",
+                               translation=Vector3(x=0.0, y=0.0, z=L1), rotation=_axis_angle(alpha)),
+            ]), log_time=ns)
+        impact_ns = to_ns(impacts["t"]).tolist()
+        for ns, payload, row in zip(impact_ns, _json_rows(impacts, IMPACT_FIELDS), impacts.tolist()):
+            self.impacts.log(payload, log_time=ns)
+            self.log.log(Log(timestamp=_stamp(ns), level=LogLevel.Info, message=impact_text(row), name="pidamper"),
+                         log_time=ns)
+
+    def note(self, t, level, text):
+        ns = int(to_ns(t))
+        self.notes.log(json.dumps({"time": float(t), "level": level, "text": text}), log_time=ns)
+        self.log.log(Log(timestamp=_stamp(ns), level=_LEVELS[level], message=text, name="pidamper"), log_time=ns)
+
+    def flush(self):
+        self.writer.flush()
+
+    def close(self):
+        self.writer.close()
+
+    def _scene(self, t0):
+        g = self.geometry
+        L1, L2, c = g["L1"], g["L2"], g["clearance"]
+        rod = Color(r=0.6, g=0.6, b=0.6, a=1.0)
+
+        def pendulum(frame, length, colour, extra=()):
+            return SceneEntity(
+                timestamp=_stamp(t0), frame_id=frame, id=frame,
+                lines=[LinePrimitive(points=[Point3(x=0, y=0, z=0), Point3(x=0, y=0, z=-length)], thickness=0.01,
+                                     scale_invariant=False, color=rod)],
+                spheres=[SpherePrimitive(pose=Pose(position=Vector3(x=0, y=0, z=-length),
+                                                   orientation=Quaternion(x=0, y=0, z=0, w=1)),
+                                         size=Vector3(x=0.05, y=0.05, z=0.05), color=colour)],
+                cubes=list(extra))
+
+        stops = [CubePrimitive(pose=Pose(position=Vector3(x=s * c, y=0, z=-L2), orientation=Quaternion(x=0, y=0, z=0, w=1)),
+                               size=Vector3(x=0.005, y=0.08, z=0.08), color=Color(r=0.9, g=0.3, b=0.2, a=0.8))
+                 for s in (-1.0, 1.0)]
+        return SceneUpdate(entities=[pendulum("primary", L2, Color(r=0.2, g=0.4, b=0.9, a=1.0), stops),
+                                     pendulum("particle", L1, Color(r=0.95, g=0.7, b=0.1, a=1.0))])
+
+
+def impact_text(row):
+    """One log line for an impact row (a tuple in IMPACT_FIELDS order)."""
+    t, side, before, after, lost, theta, index = row
+    return (f"impact {index} at t = {t:.9f} s on stop {side:+d}: v_rel {before:+.6g} -> {after:+.6g} m/s, "
+            f"lost {lost:.6g} J")
+
+
+def read_run(path):
+    """(info, states, impacts, notes) of an MCAP run; a file cut short by a crash is read up to
+    its last complete chunk.  notes: list of (time, level, text)."""
+    info, channels = None, {}
+    states, impacts, notes = [], [], []
+    with open(path, "rb") as handle:
+        try:
+            for record in StreamReader(handle).records:
+                if isinstance(record, Metadata) and record.name == METADATA_NAME:
+                    info = json.loads(record.metadata["info"])
+                elif isinstance(record, Channel):
+                    channels[record.id] = record.topic
+                elif isinstance(record, Message):
+                    topic = channels.get(record.channel_id)
+                    if topic == "/damper/state":
+                        states.append(json.loads(record.data))
+                    elif topic == "/damper/impacts":
+                        impacts.append(json.loads(record.data))
+                    elif topic == "/run/notes":
+                        note = json.loads(record.data)
+                        notes.append((note["time"], note["level"], note["text"]))
+        except Exception as err:  # a truncated file: keep what was complete
+            if info is None:
+                raise ValueError(f"{path}: no pidamper run metadata could be read ({err})") from err
+    if info is None:
+        raise ValueError(f"{path}: not a pidamper run (no '{METADATA_NAME}' metadata record)")
+    return info, _to_array(states, STATE_DTYPE), _to_array(impacts, IMPACT_DTYPE), notes
+
+
+def _to_array(rows, dtype):
+    out = np.zeros(len(rows), dtype=dtype)
+    for name in dtype.names:
+        out[name] = [row[name] for row in rows]
+    return out

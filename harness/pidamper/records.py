@@ -1,0 +1,70 @@
+"""What a logged run consists of: run info, sampled states and impacts (numpy blocks).
+
+The live run and the replay both hand these to the same writers, so an MCAP and a
+Rerun recording made from either carry the same data.
+"""
+import hashlib
+import importlib.metadata
+import math
+import time
+import uuid
+from pathlib import Path
+
+import numpy as np
+
+STATE_FIELDS = ("time", "F", "theta", "theta_dot", "alpha", "alpha_dot", "x", "y", "contact", "impacts",
+                "energy", "energy_dissipated", "work_in")
+STATE_DTYPE = np.dtype([(n, np.int64 if n in ("contact", "impacts") else np.float64) for n in STATE_FIELDS])
+
+IMPACT_FIELDS = ("t", "side", "v_rel_before", "v_rel_after", "energy_lost", "theta", "index")
+IMPACT_DTYPE = np.dtype([(n, np.int64 if n in ("side", "index") else np.float64) for n in IMPACT_FIELDS])
+
+PACKAGES = ("pidamper", "pythonfmu", "fmpy", "numpy", "mcap", "foxglove-sdk", "rerun-sdk")
+
+
+def to_ns(t):
+    """Simulation time [s] to integer nanoseconds (the MCAP log time and Rerun's timeline)."""
+    return np.rint(np.asarray(t, dtype=np.float64) * 1e9).astype(np.int64)
+
+
+def file_sha256(path):
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def run_info(fmu_path, start_values, forcing, start_time, stop_time, output_interval, geometry):
+    """Everything that identifies a run (stored as the MCAP's run metadata)."""
+    versions = {}
+    for name in PACKAGES:
+        try:
+            versions[name] = importlib.metadata.version(name)
+        except importlib.metadata.PackageNotFoundError:
+            versions[name] = "not installed"
+    wall = time.time_ns()
+    return {
+        "recording_id": str(uuid.uuid4()),
+        "application_id": "pidamper",
+        "fmu": {"file": Path(fmu_path).name, "sha256": file_sha256(fmu_path)},
+        "start_values": {k: float(v) for k, v in start_values.items()},
+        "forcing": {"kind": forcing.kind, "args": forcing.args},
+        "start_time": float(start_time),
+        "stop_time": float(stop_time),
+        "output_interval": float(output_interval),
+        "geometry": geometry,
+        "versions": versions,
+        "wall_clock_start_ns": wall,
+        "wall_clock_start": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(wall / 1e9)),
+    }
+
+
+def geometry(start_values):
+    """Lengths [m] and stop offset for drawing: L2, L1 and the clearance as a distance."""
+    g = float(start_values.get("g", 9.81))
+    L2 = float(start_values.get("L2", 1.0))
+    FR = float(start_values.get("FR", 5.0))
+    angle_form = int(start_values.get("contact_form", 0)) == 1
+    clearance = L2 * float(start_values.get("d_angle", 0.1)) if angle_form else float(start_values.get("d", 0.1))
+    return {"L2": L2, "L1": L2 / FR ** 2, "clearance": clearance, "w2": math.sqrt(g / L2)}
