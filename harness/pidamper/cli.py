@@ -1,7 +1,8 @@
-"""Command line: pidamper run | demo.
+"""Command line: pidamper run | replay | demo.
 
     pidamper run [--forcing none|harmonic|sweep|csv] [-p NAME=VALUE ...] [--stop-time S | --periods N]
-                 [--output-interval H] [--fmu PATH] [--csv-out FILE]
+                 [--output-interval H] [--fmu PATH] [--csv-out FILE] [--out DIR] [--serve | --connect URL]
+    pidamper replay RUN.mcap --out FILE.rrd [--serve | --connect URL]
     pidamper demo [--out DIR]
 """
 import argparse
@@ -12,6 +13,7 @@ from pathlib import Path
 
 from . import forcing as forcing_mod
 from .fmu import find_fmu
+from .logged_run import replay, run_logged
 from .simulation import FmuError, resonance, run
 from .stepper import FmuStepper
 from . import measures
@@ -57,13 +59,23 @@ def cmd_run(args):
     params = dict(args.param or [])
     signal = _forcing(args, params)
     stop = args.stop_time or args.periods * 2 * math.pi / resonance(params)
+    logs = None
     try:
-        result = run(params, signal, stop_time=stop, output_interval=args.output_interval, fmu=args.fmu)
-    except FmuError as err:
-        if err.partial is not None and args.csv_out:
-            err.partial.write_csv(args.csv_out)
-            t_last = err.partial.data["time"][-1]
-            print(f"wrote {args.csv_out} up to t = {t_last:.6g} s, where the run failed", file=sys.stderr)
+        if args.no_log:
+            result = run(params, signal, stop_time=stop, output_interval=args.output_interval, fmu=args.fmu)
+        else:
+            logged = run_logged(params, signal, stop_time=stop, output_interval=args.output_interval,
+                                out_dir=args.out, name=args.name, fmu=args.fmu, rrd=not args.no_rrd,
+                                serve=args.serve, connect=args.connect)
+            result, logs = logged.result, logged
+    except (FmuError, KeyboardInterrupt) as err:
+        partial = getattr(err, "partial", None)
+        if partial is not None and args.csv_out:
+            partial.write_csv(args.csv_out)
+            print(f"wrote {args.csv_out} up to t = {partial.data['time'][-1]:.6g} s, where the run failed",
+                  file=sys.stderr)
+        if not args.no_log:
+            print(f"the log in {args.out}/ reads back up to the failure", file=sys.stderr)
         raise
     d = result.data
     print(f"FMU {result.fmu}")
@@ -74,11 +86,35 @@ def cmd_run(args):
     if args.csv_out:
         result.write_csv(args.csv_out)
         print(f"wrote {args.csv_out}")
+    if logs is not None:
+        written = [str(p) for p in (logs.mcap, logs.rrd) if p is not None]
+        print(f"logged to {' and '.join(written)} ({logs.impacts_recorded} impacts recorded individually, "
+              f"{logs.impacts_unrecorded} counted only); CPU with logging {logs.cpu_time:.3f} s")
     return 0
 
 
+def cmd_replay(args):
+    if not (args.out or args.serve or args.connect):
+        raise ValueError("replay needs --out FILE.rrd, --serve or --connect URL")
+    info = replay(args.mcap, args.out, serve=args.serve, connect=args.connect)
+    print(f"replayed run {info['recording_id']} from {args.mcap}" + (f" into {args.out}" if args.out else ""))
+    if args.serve:
+        _wait_for_viewers()
+    return 0
+
+
+def _wait_for_viewers():
+    print("serving on rerun+http://127.0.0.1:9876/proxy; Ctrl-C to stop", file=sys.stderr)
+    try:
+        while True:
+            time.sleep(1.0)
+    except KeyboardInterrupt:
+        return
+
+
 def demo(out_dir="out"):
-    """Build the FMU, run free decay and resonance with fmpy, print the headline figures."""
+    """Build the FMU, run free decay and resonance with fmpy (logged to MCAP and .rrd), print the
+    headline figures."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     t_build = time.perf_counter()
@@ -87,7 +123,8 @@ def demo(out_dir="out"):
     w2 = resonance(FREE_DECAY)
     period = 2 * math.pi / w2
 
-    free = run(FREE_DECAY, forcing_mod.none(), stop_time=10 * period, output_interval=period / 200, fmu=fmu)
+    free = run_logged(FREE_DECAY, forcing_mod.none(), stop_time=10 * period, output_interval=period / 200,
+                      out_dir=out, name="free-decay", fmu=fmu).result
     free.write_csv(out / "free-decay.csv")
     cpu = time.process_time()
     with FmuStepper(fmu, FREE_DECAY) as stepper:
@@ -103,7 +140,8 @@ def demo(out_dir="out"):
 
     horizon = RESONANCE_PERIODS * period
     drive = forcing_mod.harmonic(RESONANCE_F0, w2, math.pi / 2)  # cosine forcing, the paper's form
-    forced = run(RESONANCE, drive, stop_time=horizon, output_interval=period / 200, fmu=fmu)
+    forced = run_logged(RESONANCE, drive, stop_time=horizon, output_interval=period / 200, out_dir=out,
+                        name="resonance", fmu=fmu).result
     forced.write_csv(out / "resonance.csv")
     cpu = time.process_time()
     with FmuStepper(fmu, {**RESONANCE, **drive.start_values}) as damped, \
@@ -115,7 +153,7 @@ def demo(out_dir="out"):
           f"({abs(with_d.theta):.5f} / {abs(without.theta):.5f} rad)")
     print(f"  impacts: {int(forced.data['impacts'][-1])}; CPU: run {forced.cpu_time:.3f} s "
           f"({len(forced.data) - 1} steps), measure {cpu_measure:.3f} s")
-    print(f"\nTime series written to {out / 'free-decay.csv'} and {out / 'resonance.csv'}")
+    print(f"\nWritten to {out}/: free-decay and resonance as .csv, .mcap (Foxglove) and .rrd (rerun {out}/resonance.rrd)")
     return 0
 
 
@@ -140,10 +178,23 @@ def main(argv=None):
     p_run.add_argument("--periods", type=float, default=10.0, help="horizon in primary periods (default 10)")
     p_run.add_argument("--output-interval", type=float, default=0.01, help="communication step [s]")
     p_run.add_argument("--csv-out", help="write the result table to this CSV file")
+    p_run.add_argument("--out", default="out", help="folder for the run's NAME.mcap and NAME.rrd (default: out)")
+    p_run.add_argument("--name", default="run", help="file stem of the logs (default: run)")
+    p_run.add_argument("--no-log", action="store_true", help="write neither MCAP nor .rrd")
+    p_run.add_argument("--no-rrd", action="store_true", help="write the MCAP only")
+    p_run.add_argument("--serve", action="store_true", help="also serve the recording to Rerun viewers (gRPC)")
+    p_run.add_argument("--connect", metavar="URL", help="also stream to a Rerun viewer, e.g. rerun+http://host:9876/proxy")
     p_run.set_defaults(func=cmd_run)
 
+    p_replay = sub.add_parser("replay", help="turn a run's MCAP into a Rerun recording")
+    p_replay.add_argument("mcap", help="the run's .mcap")
+    p_replay.add_argument("--out", help="the .rrd to write")
+    p_replay.add_argument("--serve", action="store_true", help="serve the recording to Rerun viewers (gRPC)")
+    p_replay.add_argument("--connect", metavar="URL", help="stream to a Rerun viewer at URL")
+    p_replay.set_defaults(func=cmd_replay)
+
     p_demo = sub.add_parser("demo", help="build the FMU, run free decay and resonance, print headline figures")
-    p_demo.add_argument("--out", default="out", help="folder for the result CSV files (default: out)")
+    p_demo.add_argument("--out", default="out", help="folder for the CSV, MCAP and .rrd files (default: out)")
     p_demo.set_defaults(func=lambda a: demo(a.out))
 
     args = parser.parse_args(argv)
@@ -152,6 +203,9 @@ def main(argv=None):
     except (ValueError, FileNotFoundError, KeyError, FmuError) as err:
         print(f"pidamper: error: {err}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt as err:
+        print(f"pidamper: {err or 'interrupted'}", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

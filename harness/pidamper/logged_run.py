@@ -6,6 +6,7 @@ to both writers.  If the run fails half-way (an FMI error, bad input, Ctrl-C),
 what was collected is written, a note says where and why it stopped, and both
 files are closed so they read back up to the failure.
 """
+import signal
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -78,24 +79,24 @@ class Collector:
         self.sinks, self.forcing, self.block = sinks, forcing, block
         self.done = 0  # recorder rows already taken
         self.states, self.impacts = [], []
-        self.last_t = start_time
+        self.last_t = self.held_from = start_time
         self.recorded = self.unrecorded = 0
         self.vr = None
 
     def __call__(self, t, recorder):
         if self.vr is None:
             self._bind(recorder)
-        fmu = recorder.fmu
         rows = recorder.rows
+        columns, states = self.columns, self.states
         for row in rows[self.done:]:
-            self.states.append(tuple(row[i] for i in self.columns))
-            self.forces.append(float(self.forcing.value(self.last_t)))
-            self.last_t = row[0]
+            states.append(tuple(row[i] for i in columns))
         self.done = len(rows)
-        n, total = fmu.getInteger(self.vr_counts)
+        last = rows[-1]
+        n = last[self.col_in_step]
         if n:
-            self._take_impacts(fmu, n, total)
-        if len(self.states) >= self.block:
+            self._take_impacts(recorder.fmu, n, last[self.col_impacts], last[0])
+        self.last_t = last[0]
+        if len(states) >= self.block:
             self.flush()
         return True
 
@@ -104,13 +105,13 @@ class Collector:
         vr = {v.name: v.valueReference for v in md.modelVariables}
         names = [c[0] for c in recorder.cols]
         self.columns = [names.index(f) for f in STATE_FIELDS if f != "F"]
-        self.forces = []
-        self.vr_counts = [vr["impacts_in_step"], vr["impacts"]]
+        self.col_in_step = names.index("impacts_in_step")
+        self.col_impacts = names.index("impacts")
         self.vr_reals = [[vr[f"impact[{k + 1}].{f}"] for f in _SLOT_REALS] for k in range(IMPACT_SLOTS)]
         self.vr_sides = [vr[f"impact[{k + 1}].side"] for k in range(IMPACT_SLOTS)]
         self.vr = vr
 
-    def _take_impacts(self, fmu, n, total):
+    def _take_impacts(self, fmu, n, total, t_step):
         k = min(n, IMPACT_SLOTS)
         reals = fmu.getReal([v for slot in self.vr_reals[:k] for v in slot])
         sides = fmu.getInteger(self.vr_sides[:k])
@@ -121,17 +122,46 @@ class Collector:
         self.recorded += k
         if n > k:
             self.unrecorded += n - k
-            self.sinks.note(self.last_t, "warning",
-                            f"{n - k} of the {n} impacts in the step ending at t = {self.last_t:.9g} s were counted "
+            self.sinks.note(t_step, "warning",
+                            f"{n - k} of the {n} impacts in the step ending at t = {t_step:.9g} s were counted "
                             f"but not recorded individually (the FMU records {IMPACT_SLOTS} per step)")
 
     def flush(self):
         if not self.states and not self.impacts:
             return
-        states = np.array([(r[0], f, *r[1:]) for r, f in zip(self.states, self.forces)], dtype=STATE_DTYPE)
-        impacts = np.array(self.impacts, dtype=IMPACT_DTYPE)
-        self.sinks.write(states, impacts)
-        self.states, self.forces, self.impacts = [], [], []
+        states = np.zeros(len(self.states), dtype=STATE_DTYPE)
+        if len(self.states):
+            table = np.array(self.states, dtype=np.float64)
+            for j, name in enumerate(f for f in STATE_FIELDS if f != "F"):
+                states[name] = table[:, j]
+            # the force held over the step that ends at each row (the first row: at t0)
+            held_from = np.concatenate([[self.held_from], states["time"][:-1]])
+            states["F"] = self.forcing.value(held_from)
+            self.held_from = states["time"][-1]
+        self.sinks.write(states, np.array(self.impacts, dtype=IMPACT_DTYPE))
+        self.states, self.impacts = [], []
+
+
+class _CtrlC:
+    """While active (main thread only), SIGINT sets `pressed` instead of raising."""
+
+    def __init__(self):
+        self.pressed = False
+        self.previous = None
+
+    def __enter__(self):
+        try:
+            self.previous = signal.signal(signal.SIGINT, self._press)
+        except ValueError:  # not the main thread: leave SIGINT alone
+            self.previous = None
+        return self
+
+    def _press(self, signum, frame):
+        self.pressed = True
+
+    def __exit__(self, *exc):
+        if self.previous is not None:
+            signal.signal(signal.SIGINT, self.previous)
 
 
 def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, out_dir="out", name="run",
@@ -142,7 +172,9 @@ def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     start_values = {**(parameters or {}), **forcing.start_values}
-    info = run_info(path, start_values, forcing, start_time, stop_time, output_interval, geometry(start_values))
+    info = run_info(path, start_values, forcing, start_time, stop_time, output_interval, None)
+    info["geometry"] = geometry(info["parameters"])
+    info["log_block"] = block  # the replay logs in the same blocks
     mcap_path = out / f"{name}.mcap" if mcap else None
     rrd_path = out / f"{name}.rrd" if rrd else None
     cpu = time.process_time()
@@ -150,8 +182,12 @@ def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.
     collector = Collector(sinks, forcing, start_time, block)
     sinks.note(start_time, "info", f"run {info['recording_id']} started: forcing {forcing.kind} {forcing.args}")
     try:
-        result = run(parameters, forcing, stop_time, output_interval, fmu=path, start_time=start_time,
-                     step_finished=collector)
+        with _CtrlC() as ctrl_c:  # Ctrl-C ends the run between steps, never inside the FMU's Python
+            result = run(parameters, forcing, stop_time, output_interval, fmu=path, start_time=start_time,
+                         step_finished=lambda t, rec: collector(t, rec) and not ctrl_c.pressed,
+                         extra_outputs=("impacts_in_step",))
+        if ctrl_c.pressed:
+            raise KeyboardInterrupt(f"interrupted by the user at t = {collector.last_t:.9g} s")
     except BaseException as err:
         collector.flush()
         what = "interrupted" if isinstance(err, KeyboardInterrupt) else "failed"
@@ -171,11 +207,12 @@ def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.
                      time.process_time() - cpu)
 
 
-def replay(mcap_path, rrd_path=None, serve=False, connect=None, block=1000):
+def replay(mcap_path, rrd_path=None, serve=False, connect=None):
     """Turn a run's MCAP into a Rerun recording with the same content as the live one: the
-    same blocks (states in runs of `block`, each with the impacts up to its last time) and
-    notes, through the same logging function."""
+    same blocks (states in runs of the live run's block size, each with the impacts up to its
+    last time) and notes, through the same logging function."""
     info, states, impacts, notes = read_run(mcap_path)
+    block = info.get("log_block", 1000)
     sinks = Sinks(info, None, rrd_path, serve, connect)
     notes = sorted(notes, key=lambda note: note[0])
     n_note = j = 0

@@ -49,6 +49,7 @@ def run_info(fmu_path, start_values, forcing, start_time, stop_time, output_inte
         "application_id": "pidamper",
         "fmu": {"file": Path(fmu_path).name, "sha256": file_sha256(fmu_path)},
         "start_values": {k: float(v) for k, v in start_values.items()},
+        "parameters": parameters(fmu_path, start_values),
         "forcing": {"kind": forcing.kind, "args": forcing.args},
         "start_time": float(start_time),
         "stop_time": float(stop_time),
@@ -58,6 +59,16 @@ def run_info(fmu_path, start_values, forcing, start_time, stop_time, output_inte
         "wall_clock_start_ns": wall,
         "wall_clock_start": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(wall / 1e9)),
     }
+
+
+def parameters(fmu_path, start_values):
+    """Every parameter of the FMU with the value the run uses (its start value unless set)."""
+    import fmpy
+
+    md = fmpy.read_model_description(str(fmu_path))
+    values = {v.name: float(v.start) for v in md.modelVariables if v.causality == "parameter"}
+    values.update({k: float(v) for k, v in start_values.items() if k in values})
+    return values
 
 
 def geometry(start_values):

@@ -73,7 +73,7 @@ def log_start(rec, info):
         fmu=info["fmu"]["file"], fmu_sha256=info["fmu"]["sha256"], forcing=json.dumps(info["forcing"]),
         output_interval=info["output_interval"], stop_time=info["stop_time"],
         wall_clock_start=info["wall_clock_start"]))
-    rec.send_property("params", rr.AnyValues(**info["start_values"]))
+    rec.send_property("params", rr.AnyValues(**info["parameters"]))
     rec.send_recording_start_time_nanos(int(info["wall_clock_start_ns"]))
     for entity, field, colour in SERIES:
         rec.log(entity, rr.SeriesLines(colors=[colour], names=[field]), static=True)
@@ -98,9 +98,12 @@ def log_block(rec, info, states, impacts):
         g = info["geometry"]
         n = len(states)
         for entity, field, height in (("pendulum/primary", "theta", g["L2"]), ("pendulum/particle", "alpha", g["L1"])):
+            half = 0.5 * states[field]
+            quaternion = np.zeros((n, 4))  # xyzw: rotation by the angle about -y (bob swings to +x)
+            quaternion[:, 1] = -np.sin(half)
+            quaternion[:, 3] = np.cos(half)
             rec.send_columns(entity, indexes=times, columns=rr.Transform3D.columns(
-                translation=np.tile([0.0, 0.0, height], (n, 1)),
-                rotation_axis_angle=[rr.RotationAxisAngle(axis=[0, -1, 0], radians=a) for a in states[field].tolist()]))
+                translation=np.tile([0.0, 0.0, height], (n, 1)), quaternion=quaternion))
     if len(impacts):
         times = [rr.TimeColumn(TIMELINE, duration=to_ns(impacts["t"]).astype("timedelta64[ns]"))]
         rec.send_columns(MARKERS, indexes=times, columns=rr.Scalars.columns(scalars=impacts["theta"]))

@@ -73,8 +73,9 @@ def resonance(parameters):
 
 
 def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu=None, start_time=0.0,
-        step_finished=None):
-    """Simulate the FMU with fmpy.simulate_fmu; parameters are FMU start values."""
+        step_finished=None, extra_outputs=()):
+    """Simulate the FMU with fmpy.simulate_fmu; parameters are FMU start values, extra_outputs
+    further FMU variables to record beside OUTPUTS."""
     forcing = forcing or none()
     _check_interval(start_time, stop_time, output_interval)
     start_values = dict(parameters or {})
@@ -93,7 +94,7 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
     cpu = time.process_time()
     try:
         data = fmpy.simulate_fmu(path, start_time=start_time, stop_time=stop_time, output_interval=output_interval,
-                                 start_values=start_values, input=signal, output=list(OUTPUTS),
+                                 start_values=start_values, input=signal, output=list(OUTPUTS) + list(extra_outputs),
                                  step_finished=watch, debug_logging=True, logger=messages)
     except FMICallException as err:
         partial = None
