@@ -31,7 +31,10 @@ SERIES = (  # entity, state field, colour
 MARKERS = "plots/angles/impacts"
 
 
-def blueprint():
+def blueprint(geometry):
+    L2 = geometry["L2"]
+    eye = rrb.EyeControls3D(position=[0.3 * L2, -1.6 * L2, 0.45 * L2], look_target=[0.0, 0.0, 0.35 * L2],
+                            eye_up=[0.0, 0.0, 1.0])
     return rrb.Blueprint(
         rrb.Horizontal(
             rrb.Vertical(
@@ -40,7 +43,7 @@ def blueprint():
                 rrb.TimeSeriesView(origin="plots/energy", name="energy [J]"),
             ),
             rrb.Vertical(
-                rrb.Spatial3DView(origin="pendulum", name="pendulums and stops"),
+                rrb.Spatial3DView(origin="pendulum", name="pendulums and stops (front view)", eye_controls=eye),
                 rrb.TextLogView(origin="events", name="events"),
                 row_shares=[3, 2],
             ),
@@ -63,7 +66,7 @@ def open_recording(info, path=None, serve=False, connect=None):
         sinks.append(rr.GrpcServerSink())
     if not sinks:
         raise ValueError("a Rerun recording needs a file, --serve or --connect")
-    rec.set_sinks(*sinks, default_blueprint=blueprint())
+    rec.set_sinks(*sinks, default_blueprint=blueprint(info["geometry"]))
     return rec
 
 
