@@ -122,13 +122,15 @@ def test_csv_forcing_validation(tmp_path):
 def test_cli_run_writes_csv_and_reports_errors(tmp_path, capsys):
     out = tmp_path / "res.csv"
     assert main(["run", "--forcing", "harmonic", "--periods", "2", "--output-interval", "0.02",
-                 "-p", "mu=0.02", "--csv-out", str(out)]) == 0
+                 "-p", "mu=0.02", "--csv-out", str(out), "--out", str(tmp_path)]) == 0
     assert "impacts" in capsys.readouterr().out and out.is_file()
+    assert (tmp_path / "run.mcap").is_file() and (tmp_path / "run.rrd").is_file()
     bad = tmp_path / "bad.csv"
     bad.write_text("time,F\n0,0\n0.1,inf\n")
-    assert main(["run", "--forcing", "csv", "--csv", str(bad)]) == 2
+    assert main(["run", "--forcing", "csv", "--csv", str(bad), "--out", str(tmp_path)]) == 2
     assert "not allowed" in capsys.readouterr().err
-    assert main(["run", "-p", "e=1.5", "--periods", "1"]) == 2
+    assert main(["run", "-p", "e=1.5", "--periods", "1", "--no-log"]) == 2
+    assert "e = 1.5 is not allowed" in capsys.readouterr().err
 
 
 def test_agrees_with_independent_prototypes_of_the_physics_notes():
