@@ -79,24 +79,25 @@ class Damper:
 
     def advance(self, t_end, force=0.0):
         """Move to time t_end [s] with the external force `force` [N] held constant."""
-        check_finite("F", force)
-        check_finite("t_end", t_end)
+        if not (math.isfinite(force) and math.isfinite(t_end)):
+            check_finite("F", force)
+            check_finite("t_end", t_end)
         if t_end < self.t:
             raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
         fc = force / self.p.M
+        ready = None  # a flight segment already built at the current state by the last event
         while self.t < t_end:
             horizon = t_end - self.t
             span = min(horizon, self._max_span)
-            seg = self._segment(fc, span)
+            seg = ready or self._segment(fc, span)
             event = locate(seg, span, self.fresh)
             if event is None:
                 self._move(seg, span, t_end if span == horizon else self.t + span)
+                ready = None
                 continue
             tau, kind, guard = event
             self._move(seg, tau, t_end if tau >= horizon else self.t + tau)
-            self._handle(kind, 1 - 2 * guard, fc)
-            if self.t >= t_end:
-                return
+            ready = self._handle(kind, 1 - 2 * guard, fc, min(t_end - self.t, self._max_span))
 
     def set_restitution(self, e):
         self.p.e = check_restitution(e)
@@ -158,20 +159,24 @@ class Damper:
     def _switch(self, mode, side):
         self.mode, self.side, self.fresh = mode, side, True
 
-    def _handle(self, kind, side, fc):
-        """Event of kind CROSS or TOUCH; in free flight `side` is the stop (+1: guard 0)."""
+    def _handle(self, kind, side, fc, span):
+        """Event of kind CROSS or TOUCH; in free flight `side` is the stop (+1: guard 0).
+        Returns the flight segment from the new state when the pair stays free, else None."""
         if self.mode != FREE:
             self._switch(FREE, 0)  # release from the stop, or re-entry into the gap
-            return
+            return None
         self._snap(side)
         if kind == CROSS:
             self._impact(side)
-        mode = self._after_contact(side, fc, kind == CROSS)
+        seg = Flight(self.p, self.x, self.v, self.y, self.u, fc, self.p.Omega * self.t + self.p.phi, span,
+                     always_bound=True)
+        mode = self._after_contact(seg, side, kind == CROSS)
         self._switch(mode, 0 if mode == FREE else side)
+        return seg if mode == FREE else None
 
-    def _after_contact(self, side, fc, impacted):
-        """Mode after a contact on `side`: FREE, STICK (displacement) or OUTSIDE (angle form)."""
-        seg = self._segment(fc, 0.0)
+    def _after_contact(self, seg, side, impacted):
+        """Mode after a contact on `side`: FREE, STICK (displacement) or OUTSIDE (angle form);
+        `seg` is the flight from the post-contact state."""
         g, g1, g2, g3 = seg.derivs(0.0, 0 if side > 0 else 1)
         n0, n1, n2, n3 = seg.noise
         _, first = classify(g1, g2, g3, resolution_speed(g2, n0, n1, n2), n2, n3)

@@ -4,10 +4,11 @@ A segment exposes guards g_i(tau) that are positive while its mode holds (the
 gaps to the two stops in free flight, the contact force while riding a stop, the
 overlap while the angle form passes through a stop), plus
 
-    seg.values(tau)    -> ((g_i, dg_i), ...)        cheap, used while far from zero
+    seg.values(tau)    -> (g_0, dg_0, g_1, dg_1, ...)  cheap, used while far from zero
     seg.derivs(tau, i) -> (g, dg, d2g, d3g)        of guard i, used only next to a zero
     seg.bounds         =  (B2, B3, B4)             bounds of the 2nd..4th derivatives (all guards)
-    seg.noise          =  (n0, n1, n2, n3)         rounding level of g and its first three derivatives
+    seg.noise          =  (n0, n1, n2, n3)         rounding level of g and its first 3 derivatives at tau = 0
+    seg.growth         =  w                        ... which grows as noise * (1 + w tau)
     seg.clear          =  True when no guard can reach zero on the whole segment
 
 Far from zero the solver steps by the smallest positive root of the Taylor lower
@@ -82,18 +83,28 @@ def locate(seg, tau_end, fresh=False):
     """First zero of a guard of seg in [0, tau_end]: (tau, CROSS or TOUCH, guard index), or None."""
     if tau_end <= 0.0 or seg.clear:
         return None
-    n0, n1, n2, n3 = seg.noise
+    base = seg.noise
+    base0, growth = base[0], seg.growth
     b2 = seg.bounds[0]
     tau = 0.0
     while True:
         step = _INF
         near = -1
+        n0 = base0 * (1.0 + growth * tau)  # rounding level of the guards at tau
         values = seg.values(tau)
-        for i, (g, g1) in enumerate(values):
+        for i in range(0, len(values), 2):
+            g = values[i]
             if g <= n0:
-                near = i
+                near = i >> 1
+                continue
+            g1 = values[i + 1]  # safe_step(g, g1, b2), inlined: this is the innermost loop
+            if b2 > 0.0:
+                root = math.sqrt(g1 * g1 + 2.0 * b2 * g)
+                s = 2.0 * g / (root - g1) if g1 <= 0.0 else (g1 + root) / b2
             else:
-                step = min(step, safe_step(g, g1, b2))
+                s = g / -g1 if g1 < 0.0 else _INF
+            if s < step:
+                step = s
         if near < 0:
             nxt = tau + step
             if nxt >= tau_end:
@@ -101,9 +112,11 @@ def locate(seg, tau_end, fresh=False):
             if nxt > tau:
                 tau = nxt
                 continue
-            near = min(range(len(values)), key=lambda i: values[i][0])  # zero within one ulp of tau
+            near = min(range(len(values) // 2), key=lambda i: values[2 * i])  # zero within one ulp of tau
             step = _INF
         g, g1, g2, g3 = seg.derivs(tau, near)
+        scale = 1.0 + growth * tau
+        n1, n2, n3 = base[1] * scale, base[2] * scale, base[3] * scale
         vres = resolution_speed(g2, n0, n1, n2)
         order, dk = classify(g1, g2, g3, vres, n2, n3)
         if not (fresh and tau == 0.0):
@@ -127,7 +140,8 @@ def _newton(seg, i, tau, g, g1):
         if nxt == tau:
             break
         tau = nxt
-        g, g1 = seg.values(tau)[i]
+        values = seg.values(tau)
+        g, g1 = values[2 * i], values[2 * i + 1]
         if g1 >= 0.0:
             break
     return tau

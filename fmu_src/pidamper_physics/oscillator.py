@@ -76,6 +76,19 @@ class Oscillator:
         v = w * (self.B * co - self.A * s) + a * (sp * (s / w - om * ds) + cp * om * dc)
         return x, v, sp * coo + cp * so, cp * coo - sp * so
 
+    def harmonic_bounds(self, T):
+        """Bounds of |x_h| and |x_h'| over 0 <= tau <= T for the harmonic response (0, 0 unforced)."""
+        a = abs(self.a)
+        if a == 0.0:
+            return 0.0, 0.0
+        w, om = self.w, self.om
+        gap = abs(self.ww - om * om)
+        xh, vh = a * T / w, a * T
+        if gap > 0.0:
+            xh = min(xh, a * (1.0 + max(1.0, om / w)) / gap)
+            vh = min(vh, a * (om + max(w, om)) / gap)
+        return xh, vh
+
     def bounds(self, T):
         """Bounds P0..P6 of |x - xe|, |x'|, ..., |x^(6)| over 0 <= tau <= T."""
         w = self.w
@@ -85,12 +98,7 @@ class Oscillator:
         if a == 0.0:
             return (R, w * R, ww * R, ww * w * R, ww * ww * R, ww * ww * w * R, ww * ww * ww * R)
         om = self.om
-        gap = abs(ww - om * om)
-        xh = a * T / w
-        vh = a * T
-        if gap > 0.0:
-            xh = min(xh, a * (1.0 + max(1.0, om / w)) / gap)
-            vh = min(vh, a * (om + max(w, om)) / gap)
+        xh, vh = self.harmonic_bounds(T)
         p = [R + xh, w * R + vh]
         for k in range(5):
             p.append(ww * p[k] + a * om ** k)

@@ -21,44 +21,64 @@ _EPS = 2.220446049250313e-16
 _ULPS = 64.0  # rounding allowance of a computed guard, in units of eps * its scale
 
 
-def _tolerance(T, *freqs):
-    """Relative rounding level: trig arguments up to w T lose eps * w T absolute."""
-    return _ULPS * _EPS * (1.0 + max(freqs) * T)
+TOLERANCE = _ULPS * _EPS  # relative rounding level of a guard at tau = 0
+# Trig arguments w tau lose eps * w tau absolute, so a segment's rounding levels grow as
+# noise * (1 + growth * tau): events.locate scales them to the tau it classifies at.
 
 
 class Flight:
-    """Free flight of both pendulums; guard = distance to the nearer stop."""
+    """Free flight of both pendulums; guards = distances to the two stops.
 
-    __slots__ = ("px", "py", "cx", "cy", "D", "bounds", "noise", "clear", "sgn")
+    The particle is unforced; so is the primary without a built-in harmonic, and then
+    the gap is evaluated inline (this is the solver's innermost loop).
+    """
 
-    def __init__(self, p, x, v, y, u, fc, psi, T):
+    __slots__ = ("px", "py", "cx", "cy", "D", "bounds", "noise", "growth", "clear", "sgn", "inline", "start",
+                 "w2", "xe", "a2", "b2", "w1", "a1", "b1")
+
+    def __init__(self, p, x, v, y, u, fc, psi, T, always_bound=False):
         a = p.F0 / p.M
         self.px = px = Oscillator(p.w2, x, v, fc, a, p.Omega, psi)
         self.py = py = Oscillator(p.w1, y, u)
         cx, cy, D = p.cx, p.cy, p.D
         self.cx, self.cy, self.D = cx, cy, D
+        self.sgn = 0
+        self.start = None  # gap derivatives at tau = 0, once computed
+        self.inline = a == 0.0
+        self.w2, self.xe, self.a2, self.b2 = px.w, px.xe, px.A, px.B
+        self.w1, self.a1, self.b1 = py.w, py.A, py.B
+        xh, vh = px.harmonic_bounds(T)
+        zmax = cx * (abs(px.xe) + px.R + xh) + cy * py.R
+        tol = TOLERANCE
+        self.growth = max(p.w1, p.w2, p.Omega)
+        n0 = tol * (D + zmax)
+        self.clear = zmax < D - n0 * (1.0 + self.growth * T)
+        if self.clear and not always_bound:  # no stop within reach: bounds and noise are not needed
+            self.bounds = self.noise = None
+            return
         bx = px.bounds(T)
         by = py.bounds(T)
         self.bounds = (cx * bx[2] + cy * by[2], cx * bx[3] + cy * by[3], cx * bx[4] + cy * by[4])
-        zmax = cx * (abs(px.xe) + bx[0]) + cy * by[0]
-        tol = _tolerance(T, p.w1, p.w2, p.Omega)
-        self.noise = (tol * (D + zmax), tol * (cx * bx[1] + cy * by[1]),
-                      tol * (cx * (bx[2] + px.ww * abs(px.xe)) + cy * by[2]),
+        self.noise = (n0, tol * (cx * bx[1] + cy * by[1]), tol * (cx * (bx[2] + px.ww * abs(px.xe)) + cy * by[2]),
                       tol * (cx * bx[3] + cy * by[3]))
-        self.clear = zmax < D - self.noise[0]
-        self.sgn = 0
 
     def positions(self, tau):
         """(x, v, y, u) at tau."""
+        if self.inline:
+            w2, w1 = self.w2, self.w1
+            s2, c2 = math.sin(w2 * tau), math.cos(w2 * tau)
+            s1, c1 = math.sin(w1 * tau), math.cos(w1 * tau)
+            a2, b2, a1, b1 = self.a2, self.b2, self.a1, self.b1
+            return (self.xe + a2 * c2 + b2 * s2, w2 * (b2 * c2 - a2 * s2),
+                    a1 * c1 + b1 * s1, w1 * (b1 * c1 - a1 * s1))
         x, v, _, _ = self.px.state(tau)
         y, u, _, _ = self.py.state(tau)
         return x, v, y, u
 
     def gap(self, tau):
         """Gap function cx x - cy y and its rate at tau."""
-        x, v, _, _ = self.px.state(tau)
-        y, u, _, _ = self.py.state(tau)
-        return self.cx * x - self.cy * y, self.cx * v - self.cy * u
+        g, dg, _, _ = Flight.values(self, tau)
+        return self.D - g, -dg
 
     def gap_derivs(self, tau):
         """Gap function and its first three derivatives at tau."""
@@ -68,12 +88,28 @@ class Flight:
         return cx * x - cy * y, cx * v - cy * u, cx * x2 - cy * y2, cx * x3 - cy * y3
 
     def values(self, tau):
-        """Guards of stop +1 (D - z) and stop -1 (D + z) with their rates."""
-        z, dz = self.gap(tau)
-        return (self.D - z, -dz), (self.D + z, dz)
+        """(guard, rate) of stop +1 (D - z) then of stop -1 (D + z), flat; z = cx x - cy y."""
+        cx, cy, D = self.cx, self.cy, self.D
+        if self.inline:
+            w2, w1 = self.w2, self.w1
+            s2, c2 = math.sin(w2 * tau), math.cos(w2 * tau)
+            s1, c1 = math.sin(w1 * tau), math.cos(w1 * tau)
+            a2, b2, a1, b1 = self.a2, self.b2, self.a1, self.b1
+            z = cx * (self.xe + a2 * c2 + b2 * s2) - cy * (a1 * c1 + b1 * s1)
+            dz = cx * w2 * (b2 * c2 - a2 * s2) - cy * w1 * (b1 * c1 - a1 * s1)
+        else:
+            x, v, _, _ = self.px.state(tau)
+            y, u, _, _ = self.py.state(tau)
+            z, dz = cx * x - cy * y, cx * v - cy * u
+        return D - z, -dz, D + z, dz
 
     def derivs(self, tau, i):
-        z, z1, z2, z3 = self.gap_derivs(tau)
+        if tau == 0.0 and self.start is not None:  # asked again by locate after an event
+            z, z1, z2, z3 = self.start
+        else:
+            z, z1, z2, z3 = self.gap_derivs(tau)
+            if tau == 0.0:
+                self.start = z, z1, z2, z3
         if i == 0:
             return self.D - z, -z1, -z2, -z3
         return self.D + z, z1, z2, z3
@@ -85,14 +121,14 @@ class Outside(Flight):
     __slots__ = ()
 
     def __init__(self, p, x, v, y, u, fc, psi, T, sgn):
-        Flight.__init__(self, p, x, v, y, u, fc, psi, T)
+        Flight.__init__(self, p, x, v, y, u, fc, psi, T, always_bound=True)
         self.sgn = sgn
         self.clear = False
 
     def values(self, tau):
         z, dz = self.gap(tau)
         s = self.sgn
-        return ((s * z - self.D, s * dz),)
+        return s * z - self.D, s * dz
 
     def derivs(self, tau, i=0):
         z, z1, z2, z3 = self.gap_derivs(tau)
@@ -103,7 +139,7 @@ class Outside(Flight):
 class Stick:
     """The particle rides stop `sgn`: y = x - sgn d, u = v; guard = sgn N / m."""
 
-    __slots__ = ("osc", "sgn", "d", "k", "base", "a", "om", "bounds", "noise", "clear")
+    __slots__ = ("osc", "sgn", "d", "k", "base", "a", "om", "bounds", "noise", "growth", "clear")
 
     def __init__(self, p, x, v, sgn, fc, psi, T):
         mu, w1, w2, d = p.mu, p.w1, p.w2, p.d
@@ -118,12 +154,13 @@ class Stick:
         P = osc.bounds(T)
         aa, om = abs(a), p.Omega
         self.bounds = tuple(abs(k) * P[j] + aa * om ** j for j in (2, 3, 4))
-        tol = _tolerance(T, big_w, p.Omega)
+        tol = TOLERANCE
+        self.growth = max(big_w, p.Omega)
         self.noise = (tol * (abs(k) * (abs(osc.xe) + P[0]) + ww1 * (abs(osc.xe) + d) + aa),
                       tol * (abs(k) * P[1] + aa * om),
                       tol * (abs(k) * (P[2] + osc.ww * abs(osc.xe)) + aa * om * om),
                       tol * (abs(k) * P[3] + aa * om ** 3))
-        self.clear = sgn * self.base - abs(k) * P[0] - aa > self.noise[0]
+        self.clear = sgn * self.base - abs(k) * P[0] - aa > self.noise[0] * (1.0 + self.growth * T)
 
     def positions(self, tau):
         x, v, _, _ = self.osc.state(tau)
@@ -132,8 +169,8 @@ class Stick:
     def values(self, tau):
         x, v, sf, cf = self.osc.state(tau)
         s = self.sgn
-        return ((s * (self.k * (x - self.osc.xe) + self.base + self.a * sf),
-                 s * (self.k * v + self.a * self.om * cf)),)
+        return (s * (self.k * (x - self.osc.xe) + self.base + self.a * sf),
+                s * (self.k * v + self.a * self.om * cf))
 
     def derivs(self, tau, i=0):
         x, v, x2, x3, sf, cf = self.osc.derivs(tau)

@@ -58,8 +58,8 @@ def main(argv=None):
     damper = find_fmu()
     with tempfile.TemporaryDirectory() as tmp:
         trivial = build_trivial(tmp)
-        base, _ = cpu_per_step(trivial, args.steps, args.interval, {}, ["y1", "y2", "y3", "y4"], args.repeats)
-        rows = [("trivial pythonfmu FMU (4 outputs = input)", base, None)]
+        base, _ = cpu_per_step(trivial, args.steps, args.interval, {}, ["y1", "y2", "y3", "n"], args.repeats)
+        rows = [("trivial pythonfmu FMU (3 Real + 1 Integer outputs)", base, None)]
         for name, values in CASES:
             cost, impacts = cpu_per_step(damper, args.steps, args.interval, values,
                                          ["theta", "theta_dot", "impacts", "energy"], args.repeats)

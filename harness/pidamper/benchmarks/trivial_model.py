@@ -1,23 +1,28 @@
-"""The smallest pythonfmu co-simulation FMU with the damper's recorded width: four outputs y1..y4 = u.
+"""The smallest pythonfmu co-simulation FMU with the damper's recorded outputs' types:
+three Real outputs and one Integer output, copied from one input.
 
-Its cost per step under a host is the floor for any pythonfmu FMU on that host.
+Its cost per step under a host is the floor for any pythonfmu FMU recording the same
+outputs on that host (fmpy reads Real and Integer outputs with one FMI call each).
 """
-from pythonfmu import Fmi2Causality, Fmi2Slave, Real
+from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
 
-OUTPUTS = ("y1", "y2", "y3", "y4")
+REALS = ("y1", "y2", "y3")
 
 
 class TrivialPythonFmu(Fmi2Slave):
-    """y1 = y2 = y3 = y4 = u."""
+    """y1 = y2 = y3 = u, n = steps taken."""
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.u = 0.0
+        self.n = 0
         self.register_variable(Real("u", causality=Fmi2Causality.input))
-        for name in OUTPUTS:
+        for name in REALS:
             setattr(self, name, 0.0)
             self.register_variable(Real(name, causality=Fmi2Causality.output))
+        self.register_variable(Integer("n", causality=Fmi2Causality.output, variability=Fmi2Variability.discrete))
 
     def do_step(self, current_time, step_size):
-        self.y1 = self.y2 = self.y3 = self.y4 = self.u
+        self.y1 = self.y2 = self.y3 = self.u
+        self.n += 1
         return True
