@@ -77,8 +77,10 @@ class Damper:
 
     # ---- public API -------------------------------------------------------------------
 
-    def advance(self, t_end, force=0.0):
-        """Move to time t_end [s] with the external force `force` [N] held constant."""
+    def advance(self, t_end, force=0.0, observe=None):
+        """Move to time t_end [s] with the external force `force` [N] held constant.
+        observe(seg, t0, t1), if given, sees each smooth piece before the state leaves it:
+        the segment `seg` started at t0 and holds up to t1 (events, if any, at t1)."""
         if not (math.isfinite(force) and math.isfinite(t_end)):
             check_finite("F", force)
             check_finite("t_end", t_end)
@@ -92,12 +94,41 @@ class Damper:
             seg = ready or self._segment(fc, span)
             event = locate(seg, span, self.fresh)
             if event is None:
-                self._move(seg, span, t_end if span == horizon else self.t + span)
+                t_new = t_end if span == horizon else self.t + span
+                if observe is not None:
+                    observe(seg, self.t, t_new)
+                self._move(seg, span, t_new)
                 ready = None
                 continue
             tau, kind, guard = event
-            self._move(seg, tau, t_end if tau >= horizon else self.t + tau)
+            t_new = t_end if tau >= horizon else self.t + tau
+            if observe is not None:
+                observe(seg, self.t, t_new)
+            self._move(seg, tau, t_new)
             ready = self._handle(kind, 1 - 2 * guard, fc, min(t_end - self.t, self._max_span))
+
+    def dense(self, times, force=0.0):
+        """Advance to times[-1] and return x, v, y, u [m, m/s] at the sorted times (>= now) from
+        the closed-form pieces, without restarting the motion at each output time."""
+        times = [float(t) for t in times]
+        rows = []
+        k = 0
+
+        def take(seg, t0, t1):
+            nonlocal k
+            while k < len(times) and times[k] <= t1:
+                rows.append(seg.positions(times[k] - t0))
+                k += 1
+
+        if times and times[0] <= self.t:
+            while k < len(times) and times[k] <= self.t:
+                rows.append((self.x, self.v, self.y, self.u))
+                k += 1
+        if times:
+            self.advance(times[-1], force, observe=take)
+        while len(rows) < len(times):  # times equal to the end, after the last piece
+            rows.append((self.x, self.v, self.y, self.u))
+        return rows
 
     def set_restitution(self, e):
         self.p.e = check_restitution(e)

@@ -157,6 +157,16 @@ def demo(out_dir="out"):
     return 0
 
 
+def _bench(rest):
+    from .bench.workprecision import main as bench_main
+    return bench_main(rest)
+
+
+def _stress(rest):
+    from .bench.stress import main as stress_main
+    return stress_main(rest)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="pidamper", description="Pendulum impact damper FMU harness")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -197,6 +207,12 @@ def main(argv=None):
     p_demo.add_argument("--out", default="out", help="folder for the CSV, MCAP and .rrd files (default: out)")
     p_demo.set_defaults(func=lambda a: demo(a.out))
 
+    sub.add_parser("bench", help="work-precision benchmark (pidamper bench --help)")
+    sub.add_parser("stress", help="hard-case stability table (pidamper stress --help)")
+
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] in ("bench", "stress"):  # their own parsers take the rest
+        return (_bench if argv[0] == "bench" else _stress)(argv[1:])
     args = parser.parse_args(argv)
     try:
         return args.func(args)

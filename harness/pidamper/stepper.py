@@ -26,6 +26,7 @@ class FmuStepper:
         self.forcing = forcing
         self.t = float(start_time)
         self.fatal = False  # after fmi2Fatal the FMI standard forbids any further call
+        self._closed = False
         fmu = self.fmu
         fmu.instantiate()
         try:
@@ -90,6 +91,9 @@ class FmuStepper:
         """Terminate and free the instance; after fmi2Fatal only the files are removed (the
         standard forbids further calls, and pythonfmu 0.7 has already released its objects:
         freeing the instance again would free them twice)."""
+        if self._closed:
+            return
+        self._closed = True
         if not self.fatal:
             try:
                 self.fmu.terminate()

@@ -1,0 +1,1 @@
+"""Benchmarks of speed against error (pidamper bench) and the hard-case stress table (pidamper stress)."""
