@@ -95,7 +95,7 @@ class PendulumImpactDamper(Fmi2Slave):
     author = "pidamper developers"
     description = ("Pendulum-type particle impact damper: primary pendulum and hanging particle, "
                    "linearised, exact event-driven motion (impacts, chatter, sticking located inside doStep)")
-    version = VERSION
+    version = f"{VERSION}+{SOURCE_HASH}"  # changes with the shipped sources, like the GUID
     license = "MIT"
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=20.0, step_size=0.01)
 

@@ -32,11 +32,19 @@ never reported again, which rules out ping-pong between two modes at one
 instant.
 """
 import math
+import struct
 
 CROSS = 1  # transversal zero crossing, found to machine precision
 TOUCH = 2  # zero reached (or already passed) at an approach speed below resolution
 
 _INF = math.inf
+
+
+def next_up(x):
+    """The next float above x >= 0 (math.nextafter needs Python 3.9; hosts may embed older ones)."""
+    if x == 0.0:
+        return 5e-324
+    return struct.unpack("<d", struct.pack("<q", struct.unpack("<q", struct.pack("<d", x))[0] + 1))[0]
 
 
 def safe_step(g, g1, b2):
@@ -128,7 +136,7 @@ def locate(seg, tau_end, fresh=False):
                 return tau, TOUCH, near
         # departing, flat, or a contradiction right after a switch: step away
         step = min(step, departure_step(order, dk, vres, seg.bounds))
-        tau = max(tau + step, math.nextafter(tau, _INF))
+        tau = max(tau + step, next_up(tau))
         if tau >= tau_end:
             return None
 

@@ -215,7 +215,7 @@ FIELDS = ("case", "method", "setting", "cpu_s", "max_x_error", "measure_error", 
           "us_per_impact", "input_hold_error", "failure")
 
 
-def write_table(rows, out, machine):
+def write_table(rows, out, machine, cases=()):
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "workprecision.csv", "w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=FIELDS, extrasaction="ignore")
@@ -233,7 +233,34 @@ def write_table(rows, out, machine):
         lines.append(f"| {r['case']} | {r['method']} | {r['setting']} | {_f(r['cpu_s'], '.3g')} | "
                      f"{_f(r['max_x_error'], '.1e')} | {_f(r['measure_error'], '.1e')} | "
                      f"{_f(r['penetration'], '.1e')} | {r['impacts'] if r['impacts'] is not None else ''} | {note} |")
+    lines += targets(rows, cases)
     (out / "workprecision.md").write_text("\n".join(lines) + "\n")
+
+
+def targets(rows, cases):
+    """The issue's targets, case by case: FMU error, core and FMU speed against solve_ivp."""
+    lines = ["", "## Targets", "",
+             "| case | worst FMU error (target <= 1e-9) | core speed-up vs fastest solve_ivp + logic at equal or worse "
+             "error (target >= 10) | FMU speed-up at h = 0.01 s / 0.1 s vs the same (target >= 3) |",
+             "|---|---:|---:|---:|"]
+    for case in cases:
+        mine = [r for r in rows if r["case"] == case.name]
+        fmu = [r for r in mine if r["method"] == "FMU (fmpy)" and r["max_x_error"] == r["max_x_error"]]
+        core = [r for r in mine if r["method"] == "core"]
+        ivp = [r for r in mine if r["method"] == "solve_ivp + logic" and not r["failure"]
+               and r["max_x_error"] == r["max_x_error"]]
+        worst = max((r["max_x_error"] for r in fmu), default=math.nan)
+
+        def speedup(row):
+            rivals = [r["cpu_s"] for r in ivp if r["max_x_error"] >= row["max_x_error"]]
+            return min(rivals) / row["cpu_s"] if rivals else math.nan
+
+        core_up = speedup(core[0]) if core else math.nan
+        fmu_ups = [speedup(r) for r in fmu if r["setting"] in ("h = 0.01 s", "h = 0.1 s")]
+        note = "" if case.well_conditioned else " (ill-conditioned: statistics)"
+        lines.append(f"| {case.name}{note} | {_f(worst, '.1e')} | {_f(core_up, '.1f')} | "
+                     f"{' / '.join(_f(u, '.1f') for u in fmu_ups)} |")
+    return lines
 
 
 def _f(value, fmt):
@@ -274,6 +301,25 @@ def plot(rows, case, out):
     plt.close(fig)
 
 
+def report(out, cases):
+    """Markdown and plots from out/workprecision.csv (the machine line is kept from the old table)."""
+    rows = []
+    with open(out / "workprecision.csv", newline="") as handle:
+        for r in csv.DictReader(handle):
+            for k in ("cpu_s", "max_x_error", "measure_error", "penetration", "us_per_impact", "input_hold_error"):
+                r[k] = float(r[k]) if r.get(k) not in ("", None) else (math.nan if k in FIELDS[3:7] else None)
+            r["impacts"] = int(r["impacts"]) if r["impacts"] not in ("", None) else None
+            rows.append(r)
+    old = (out / "workprecision.md").read_text().splitlines()
+    machine_line = old[0][len("Machine: "):] if old and old[0].startswith("Machine: ") else machine()
+    present = [c for c in cases if any(r["case"] == c.name for r in rows)]
+    write_table(rows, out, machine_line, present)
+    for case in present:
+        plot(rows, case, out)
+    print(f"rewrote {out}/workprecision.md and {len(present)} plots from {out}/workprecision.csv")
+    return 0
+
+
 def machine():
     import os
     cpu = "unknown CPU"
@@ -295,8 +341,12 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true", help="fewer settings per method")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--out", default="docs/bench", help="folder for the CSV, Markdown and PNGs")
+    parser.add_argument("--report-only", action="store_true",
+                        help="rewrite the Markdown table and the plots from the CSV of an earlier run")
     args = parser.parse_args(argv)
     chosen = [c for c in CASES if not args.case or c.name in args.case]
+    if args.report_only:
+        return report(Path(args.out), chosen)
     fmu = find_fmu()
     out = Path(args.out)
     rows = []
@@ -307,7 +357,7 @@ def main(argv=None):
         for r in bench.rows:
             if r["method"] == "reference":
                 r["failure"] = f"RK4+bisection agrees to {bench.agreement:.1e}"
-        write_table(rows, out, machine())
+        write_table(rows, out, machine(), [c for c in chosen if any(r["case"] == c.name for r in rows)])
         plot(rows, case, out)
     print(f"wrote {out}/workprecision.csv, .md and workprecision-*.png")
     return 0

@@ -1,0 +1,129 @@
+"""The FMU's documentation/ folder: model, variables, assumptions, the default experiment
+(plot and reference result CSV), as the Modelica Reference-FMUs ship them."""
+import csv
+import html
+import subprocess
+from pathlib import Path
+
+REF_OUTPUTS = ("theta", "theta_dot", "alpha", "alpha_dot", "impacts", "contact", "energy", "energy_dissipated")
+
+
+def reference_result(stop=20.0, step=0.01):
+    """Rows of the default experiment (defaults of every parameter), computed by the physics core
+    on the FMU's communication grid: the FMU must reproduce them."""
+    from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, Damper, Params
+
+    core = Damper(Params(**DEFAULTS), *INITIAL_DEFAULTS.values())
+    n = int(round(stop / step))
+    rows = []
+    for k in range(n + 1):
+        if k:
+            core.advance(k * step)
+        p = core.p
+        rows.append((core.t, core.x / p.L2, core.v / p.L2, core.y / p.L1, core.u / p.L1, core.impacts, core.contact,
+                     core.energy, core.dissipated))
+    return rows
+
+
+def write_reference_csv(path, rows):
+    with open(path, "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(("time",) + REF_OUTPUTS)
+        for row in rows:
+            writer.writerow([repr(v) if isinstance(v, float) else v for v in row])
+
+
+def write_plot(path, rows):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    t = [r[0] for r in rows]
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
+    a1.plot(t, [r[1] for r in rows], label="theta (primary)")
+    a1.plot(t, [r[3] for r in rows], label="alpha (particle)", alpha=0.6)
+    a1.set_ylabel("angle [rad]")
+    a1.legend(fontsize=8)
+    a2.plot(t, [r[7] for r in rows], label="energy")
+    a2.plot(t, [r[8] for r in rows], label="energy dissipated")
+    a2.set_xlabel("time [s]")
+    a2.set_ylabel("[J]")
+    a2.legend(fontsize=8)
+    fig.suptitle("PendulumImpactDamper, default experiment (free decay)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def git_revision():
+    try:
+        done = subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True, text=True,
+                              cwd=Path(__file__).parent, timeout=10)
+        return done.stdout.strip() or "unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def write_index(path, version, parameters, outputs):
+    def rows(items, with_range):
+        out = []
+        for item in items:
+            if with_range:
+                name, _, start, unit, lo, hi, desc = item
+                rng = f"[{'' if lo is None else lo}, {'' if hi is None else hi}]"
+                out.append(f"<tr><td>{name}</td><td>{unit or ''}</td><td>{start!r}</td><td>{rng}</td>"
+                           f"<td>{html.escape(desc)}</td></tr>")
+            else:
+                name, _, unit, desc, feed = item
+                out.append(f"<tr><td>{name}</td><td>{unit or ''}</td><td>{'F' if feed else ''}</td>"
+                           f"<td>{html.escape(desc)}</td></tr>")
+        return "\n".join(out)
+
+    text = f"""<!DOCTYPE html>
+<html><head><meta charset="utf-8"><title>PendulumImpactDamper</title></head><body>
+<h1>PendulumImpactDamper {html.escape(version)}</h1>
+<p>Pendulum-type particle impact damper: a primary structure modelled as a pendulum (mass M, length L2)
+and a particle hung inside it as a second pendulum (mass m = mu M, length L1 = L2/FR<sup>2</sup>) that
+strikes two stops. FMI 2.0 co-simulation; source revision {html.escape(git_revision())}.</p>
+<h2>Model</h2>
+<p>Linear coordinates x = L2 theta, y = L1 alpha. Between impacts:
+x'' + w2<sup>2</sup> x = F/M + (F0/M) sin(Omega t + phi), y'' + w1<sup>2</sup> y = 0, with
+w2 = sqrt(g/L2), w1 = FR w2, solved in closed form (exact also at resonance). Contact at
+x - y = &plusmn;d (contact_form 0) or theta - alpha = &plusmn;d_angle as printed in the paper
+(contact_form 1, where a pair that still closes after an impact passes through the stop until it
+re-enters the gap). Impact law: momentum conserved, Newton restitution e. Every impact inside a
+communication step is located exactly (conservative advancement: none can be missed) and handled
+inside fmi2DoStep; a chatter sequence whose rebound falls below float64 resolution collapses into
+sticking, and the particle rides the stop until the contact force reaches zero.</p>
+<h2>Assumptions</h2>
+<ul><li>small angles (linearised pendulums), point impacts, no structural damping;</li>
+<li>the external force F is held constant over each communication step (canInterpolateInputs = false);</li>
+<li>the model runs in the host's Python interpreter (3.8 or newer): a non-Python host must load libpython.</li></ul>
+<h2>Parameters</h2>
+<table border="1"><tr><th>name</th><th>unit</th><th>start</th><th>range</th><th>description</th></tr>
+{rows(parameters, True)}</table>
+<h2>Outputs</h2>
+<table border="1"><tr><th>name</th><th>unit</th><th>feedthrough</th><th>description</th></tr>
+{rows(outputs, False)}</table>
+<p>Besides these, impact[k].t, .side, .v_rel_before, .v_rel_after, .energy_lost, .theta (k = 1..16) record
+the impacts of the last communication step, with impacts_in_step and impacts_unrecorded.</p>
+<h2>Default experiment</h2>
+<p>0 to 20 s, step 0.01 s, every parameter at its start value (free decay from theta_dot_0 = 0.5 rad/s).
+Result: PendulumImpactDamper_ref.csv.</p>
+<img src="default_experiment.png" alt="default experiment">
+</body></html>
+"""
+    Path(path).write_text(text)
+
+
+def write(folder, version):
+    """Fill `folder` with index.html, default_experiment.png and PendulumImpactDamper_ref.csv."""
+    from pidamper_fmu.slave import OUTPUTS, PARAMETERS
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    rows = reference_result()
+    write_reference_csv(folder / "PendulumImpactDamper_ref.csv", rows)
+    write_plot(folder / "default_experiment.png", rows)
+    write_index(folder / "index.html", version, PARAMETERS, OUTPUTS)
+    return folder

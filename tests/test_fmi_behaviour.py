@@ -1,0 +1,205 @@
+"""FMI behaviour a host relies on: reset, tunable vs fixed, memory over instantiate/free cycles,
+state that travels between processes, arbitrary step sequences, identity and documentation."""
+import io
+import math
+import random
+import shutil
+import subprocess
+import sys
+import zipfile
+
+import fmpy
+import numpy as np
+import pytest
+from fmpy.fmi2 import FMU2Slave
+
+from build_fmu import expected_guid, source_hash
+
+W2 = math.sqrt(9.81)
+FREE = {"theta_dot_0": 0.7 * W2}
+
+
+def _slave(fmu_path, unzipped, name="x"):
+    md = fmpy.read_model_description(str(fmu_path))
+    fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, modelIdentifier="PendulumImpactDamper", instanceName=name)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    return fmu, vr
+
+
+def _init(fmu, vr, values):
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    for k, v in values.items():
+        fmu.setReal([vr[k]], [v])
+    fmu.exitInitializationMode()
+
+
+def _steps(fmu, vr, times):
+    out, t = [], 0.0
+    for t_next in times:
+        fmu.doStep(currentCommunicationPoint=t, communicationStepSize=t_next - t)
+        t = t_next
+        out.append(tuple(fmu.getReal([vr["theta"], vr["theta_dot"], vr["energy"]])) + tuple(fmu.getInteger([vr["impacts"]])))
+    return out
+
+
+@pytest.fixture(scope="module")
+def unzipped(fmu_path, tmp_path_factory):
+    return fmpy.extract(str(fmu_path), unzipdir=str(tmp_path_factory.mktemp("unzipped")))
+
+
+def test_reset_gives_a_run_equal_to_a_new_instance(fmu_path, unzipped):
+    times = [0.05 * k for k in range(1, 300)]
+    fmu, vr = _slave(fmu_path, unzipped)
+    fmu.instantiate()
+    _init(fmu, vr, FREE)
+    first = _steps(fmu, vr, times)
+    fmu.reset()
+    _init(fmu, vr, FREE)
+    again = _steps(fmu, vr, times)
+    fmu.terminate()
+    fmu.freeInstance()
+    assert again == first and first[-1][3] > 50
+
+
+def _rss_mb():
+    with open("/proc/self/statm") as handle:
+        return int(handle.read().split()[1]) * 4096 / 2 ** 20
+
+
+def test_instantiate_free_cycles_do_not_grow_memory(fmu_path, unzipped):
+    def cycle():
+        fmu, vr = _slave(fmu_path, unzipped)
+        fmu.instantiate()
+        _init(fmu, vr, FREE)
+        fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=1.0)
+        fmu.terminate()
+        fmu.freeInstance()
+
+    for _ in range(100):  # warm up caches and the allocator
+        cycle()
+    before = _rss_mb()
+    for _ in range(1000):
+        cycle()
+    growth = _rss_mb() - before
+    assert growth < 5.0, f"RSS grew by {growth:.1f} MB over 1000 cycles"
+
+
+CHILD = """
+import sys, math, fmpy
+from fmpy.fmi2 import FMU2Slave
+fmu_path, out = sys.argv[1], sys.argv[2]
+md = fmpy.read_model_description(fmu_path)
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(fmu_path), modelIdentifier="PendulumImpactDamper",
+                instanceName="child")
+vr = {v.name: v.valueReference for v in md.modelVariables}
+fmu.instantiate(); fmu.setupExperiment(startTime=0.0); fmu.enterInitializationMode()
+fmu.setReal([vr["theta_dot_0"]], [0.7 * math.sqrt(9.81)]); fmu.exitInitializationMode()
+t = 0.0
+for k in range(137):
+    fmu.doStep(currentCommunicationPoint=t, communicationStepSize=0.03); t += 0.03
+open(out, "wb").write(bytes(fmu.serializeFMUstate(fmu.getFMUstate())))
+print(repr(t))
+"""
+
+
+def test_serialized_state_restores_in_another_process(fmu_path, unzipped, tmp_path):
+    blob_file = tmp_path / "state.bin"
+    done = subprocess.run([sys.executable, "-c", CHILD, str(fmu_path), str(blob_file)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    t0 = float(done.stdout)
+    times = [t0 + 0.07 * k for k in range(1, 200)]
+    # the same run, uninterrupted, in this process
+    fmu, vr = _slave(fmu_path, unzipped, "whole")
+    fmu.instantiate()
+    _init(fmu, vr, FREE)
+    t = 0.0
+    for _ in range(137):
+        fmu.doStep(currentCommunicationPoint=t, communicationStepSize=0.03)
+        t += 0.03
+    whole = [x for x in _continue(fmu, vr, t, times)]
+    fmu.terminate()
+    fmu.freeInstance()
+    # restored from the other process's bytes
+    other, vr2 = _slave(fmu_path, unzipped, "restored")
+    other.instantiate()
+    _init(other, vr2, {"theta_dot_0": 0.0})
+    state = other.deSerializeFMUstate(blob_file.read_bytes())
+    other.setFMUstate(state)
+    restored = [x for x in _continue(other, vr2, t0, times)]
+    other.freeFMUstate(state)
+    other.terminate()
+    other.freeInstance()
+    assert t == t0 and restored == whole and whole[-1][2] > 50
+
+
+def _continue(fmu, vr, t, times):
+    for t_next in times:
+        fmu.doStep(currentCommunicationPoint=t, communicationStepSize=t_next - t)
+        t = t_next
+        yield tuple(fmu.getReal([vr["theta"], vr["theta_dot"]])) + tuple(fmu.getInteger([vr["impacts"]]))
+
+
+def test_arbitrary_step_sequences(fmu_path, unzipped):
+    """canHandleVariableCommunicationStepSize: random steps (1e-6 s to 3 s) meet a uniform run at
+    the same times to within rounding."""
+    rng = random.Random(11)
+    times, t = [], 0.0
+    while t < 20.0:
+        t = min(20.0, t + 10 ** rng.uniform(-6, math.log10(3.0)))
+        times.append(t)
+    a, vr = _slave(fmu_path, unzipped, "random")
+    a.instantiate()
+    _init(a, vr, FREE)
+    ragged = _steps(a, vr, times)
+    a.terminate()
+    a.freeInstance()
+    checkpoints = times[:: max(1, len(times) // 40)] + [times[-1]]
+    b, vr = _slave(fmu_path, unzipped, "checkpoints")
+    b.instantiate()
+    _init(b, vr, FREE)
+    direct = dict(zip(checkpoints, _steps(b, vr, checkpoints)))
+    b.terminate()
+    b.freeInstance()
+    for t, row in zip(times, ragged):
+        if t in direct:
+            assert row[0] == pytest.approx(direct[t][0], abs=1e-12) and row[3] == direct[t][3]
+
+
+def test_identity_follows_the_sources(fmu_path, tmp_path):
+    md = fmpy.read_model_description(str(fmu_path))
+    tag = source_hash()
+    assert md.guid == expected_guid(tag) and md.version.endswith("+" + tag)
+    assert md.coSimulation.needsExecutionTool is False or md.coSimulation.needsExecutionTool == "false"
+    # a one-character change of a shipped source gives another hash (hence GUID and version)
+    import build_fmu.builder as builder
+
+    slave, physics = builder.sources()
+    copy = tmp_path / "fmu_src"
+    shutil.copytree(slave.parents[1], copy)
+    target = copy / "pidamper_physics" / "impact.py"
+    target.write_text(target.read_text() + "\n")
+    original = builder._REPO_SRC
+    builder._REPO_SRC = copy
+    try:
+        assert builder.source_hash() != tag
+    finally:
+        builder._REPO_SRC = original
+
+
+def test_documentation_and_reference_result(fmu_path):
+    with zipfile.ZipFile(fmu_path) as z:
+        names = set(z.namelist())
+        assert {"documentation/index.html", "documentation/default_experiment.png",
+                "documentation/PendulumImpactDamper_ref.csv"} <= names
+        index = z.read("documentation/index.html").decode()
+        ref = np.genfromtxt(io.BytesIO(z.read("documentation/PendulumImpactDamper_ref.csv")), delimiter=",",
+                            names=True)
+    assert "theta_dot_0" in index and "Assumptions" in index
+    md = fmpy.read_model_description(str(fmu_path))
+    exp = md.defaultExperiment
+    res = fmpy.simulate_fmu(str(fmu_path), stop_time=float(exp.stopTime), output_interval=float(exp.stepSize),
+                            output=[n for n in ref.dtype.names if n != "time"])
+    assert len(res) == len(ref)
+    for name in ref.dtype.names:
+        assert np.array_equal(res[name], ref[name]), name

@@ -1,0 +1,196 @@
+"""The FMU in independent hosts and checkers: libcosim, the FMU container runtime, a C host,
+fmutool; and deployed outside this repository with nothing but fmpy."""
+import math
+import os
+import shutil
+import subprocess
+import sys
+import sysconfig
+import zipfile
+from pathlib import Path
+
+import fmpy
+import numpy as np
+import pytest
+
+from pidamper import FmuStepper
+
+W2 = math.sqrt(9.81)
+FREE = {"theta_dot_0": 0.7 * W2}
+OTHER = {"FR": 2.0, "e": 0.5, "d": 0.05, "theta_dot_0": 1.0}
+C_HOST = Path(__file__).parent / "c_host" / "host.c"
+
+
+def fmpy_run(fmu_path, values, times, forces=None):
+    """theta after each step, the FMU driven by fmpy's FMU2Slave with the host's own times."""
+    out = []
+    with FmuStepper(fmu_path, values) as s:
+        t = 0.0
+        for k, t_next in enumerate(times):
+            if forces is not None:
+                s.set("F", forces[k])
+            s.do_step(t, t_next - t)
+            t = t_next
+            out.append(s.read()[0])
+    return np.array(out)
+
+
+def test_libcosim_two_instances_and_a_manipulated_force(fmu_path):
+    cosim = pytest.importorskip("libcosimpy", reason="libcosimpy (Open Simulation Platform) is not installed")
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimManipulator import CosimManipulator
+    from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    assert cosim
+    log_output_level(CosimLogLevel.ERROR)
+    md = fmpy.read_model_description(str(fmu_path))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    step_ns, n = 1_000_000, 3000  # libcosim keeps time in integer nanoseconds
+    ex = CosimExecution.from_step_size(step_size=step_ns)
+    a = ex.add_local_slave(CosimLocalSlave(fmu_path=str(fmu_path), instance_name="a"))
+    b = ex.add_local_slave(CosimLocalSlave(fmu_path=str(fmu_path), instance_name="b"))
+    for index, values in ((a, FREE), (b, OTHER)):
+        for name, value in values.items():
+            ex.real_initial_value(index, vr[name], value)
+    manipulator = CosimManipulator.create_override()
+    ex.add_manipulator(manipulator=manipulator)
+    observer = CosimObserver.create_last_value()
+    ex.add_observer(observer=observer)
+    forces = [0.05 * math.sin(0.3 * k) for k in range(n)]
+    got_a, got_b = [], []
+    for k in range(n):
+        manipulator.slave_real_values(a, [vr["F"]], [forces[k]])
+        assert ex.step()
+        got_a.append(observer.last_real_values(a, [vr["theta"]])[0])
+        got_b.append(observer.last_real_values(b, [vr["theta"]])[0])
+    times = [(k + 1) * step_ns / 1e9 for k in range(n)]
+    ref_a = fmpy_run(fmu_path, FREE, times, forces)
+    ref_b = fmpy_run(fmu_path, OTHER, times)
+    assert observer.last_integer_values(a, [vr["impacts"]])[0] > 20
+    assert np.max(np.abs(np.array(got_a) - ref_a)) <= 1e-12 * np.max(np.abs(ref_a))
+    assert np.max(np.abs(np.array(got_b) - ref_b)) <= 1e-12 * np.max(np.abs(ref_b))
+
+
+def test_fmu_container_runtime(fmu_path, tmp_path):
+    """fmu-manipulation-toolbox wraps the FMU in its C container runtime; fmpy runs the container."""
+    tool = shutil.which("fmucontainer") or str(Path(sys.executable).with_name("fmucontainer"))
+    if not Path(tool).exists():
+        pytest.skip("fmu-manipulation-toolbox (fmucontainer) is not installed")
+    shutil.copy2(fmu_path, tmp_path / "PendulumImpactDamper.fmu")
+    (tmp_path / "damper.csv").write_text("rule;from_fmu;from_port;to_fmu;to_port\n"
+                                         "FMU;PendulumImpactDamper.fmu;;;\n"
+                                         f"START;PendulumImpactDamper.fmu;theta_dot_0;{FREE['theta_dot_0']!r};\n")
+    done = subprocess.run([tool, "-container", "damper.csv:0.01", "-fmu-directory", "."], cwd=tmp_path,
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stdout + done.stderr
+    container = fmpy.simulate_fmu(str(tmp_path / "damper.fmu"), stop_time=20.0, output_interval=0.01,
+                                  output=["theta", "impacts"])
+    direct = fmpy.simulate_fmu(str(fmu_path), stop_time=20.0, output_interval=0.01, start_values=FREE,
+                               output=["theta", "impacts"])
+    assert container["impacts"][-1] == direct["impacts"][-1] > 100
+    assert np.max(np.abs(container["theta"] - direct["theta"])) <= 1e-12 * np.max(np.abs(direct["theta"]))
+
+
+def test_checkers_pass(fmu_path):
+    tool = shutil.which("fmutool") or str(Path(sys.executable).with_name("fmutool"))
+    if not Path(tool).exists():
+        pytest.skip("fmu-manipulation-toolbox (fmutool) is not installed")
+    done = subprocess.run([tool, "-input", str(fmu_path), "-check"], capture_output=True, text=True)
+    text = done.stdout + done.stderr
+    assert done.returncode == 0 and "No semantic error" in text and "compliant with FMI-2.0" in text, text
+    assert fmpy.validation.validate_fmu(str(fmu_path)) == []
+
+
+def _compile_host(tmp_path):
+    compiler = shutil.which("gcc") or shutil.which("cc")
+    if not compiler:
+        pytest.skip("no C compiler")
+    headers = Path(fmpy.__file__).parent / "c-code"
+    exe = tmp_path / "host"
+    subprocess.run([compiler, "-Wall", "-Werror", "-I", str(headers), "-o", str(exe), str(C_HOST), "-ldl"],
+                   check=True)
+    return exe
+
+
+def _run_host(exe, fmu_path, tmp_path, libpython, home, steps=2000, h=0.01):
+    unzipped = tmp_path / "unzipped"
+    if not unzipped.exists():
+        with zipfile.ZipFile(fmu_path) as z:
+            z.extractall(unzipped)
+    md = fmpy.read_model_description(str(fmu_path))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    env = {**os.environ, "LD_PRELOAD": str(libpython), "PYTHONHOME": str(home)}
+    env.pop("PYTHONPATH", None)
+    done = subprocess.run([str(exe), str(unzipped), md.guid, str(vr["theta_dot_0"]), repr(FREE["theta_dot_0"]),
+                           str(vr["theta"]), str(vr["impacts"]), str(steps), repr(h)],
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    theta, impacts = done.stdout.split()
+    return float(theta), int(impacts)
+
+
+def _fmpy_reference(fmu_path, steps=2000, h=0.01):
+    with FmuStepper(fmu_path, FREE) as s:
+        t = 0.0
+        for _ in range(steps):
+            s.do_step(t, h)
+            t += h
+        return s.read()[0], s.get("impacts")
+
+
+def test_c_host_with_libpython_preloaded(fmu_path, tmp_path):
+    """A non-Python host: dlopen the FMU's .so, preload this interpreter's libpython."""
+    exe = _compile_host(tmp_path)
+    libpython = Path(sysconfig.get_config_var("LIBDIR")) / sysconfig.get_config_var("LDLIBRARY")
+    if not libpython.exists():
+        pytest.skip(f"this Python has no shared libpython ({libpython})")
+    theta, impacts = _run_host(exe, fmu_path, tmp_path, libpython, sys.base_prefix)
+    assert (theta, impacts) == _fmpy_reference(fmu_path)  # same interpreter: bit for bit
+
+
+def _oldest_shared_python():
+    root = Path.home() / ".pyenv" / "versions"
+    found = []
+    for lib in root.glob("3.*/lib/libpython3.*.so"):
+        version = tuple(int(p) for p in lib.parent.parent.name.split(".")[:2])
+        if version >= (3, 8):  # pythonfmu 0.7's own package needs typing.Literal (3.8+)
+            found.append((version, lib))
+    return min(found) if found else (None, None)
+
+
+def test_c_host_under_the_oldest_python(fmu_path, tmp_path):
+    version, lib = _oldest_shared_python()
+    if lib is None:
+        pytest.skip("no pyenv CPython >= 3.8 with a shared libpython on this machine")
+    exe = _compile_host(tmp_path)
+    theta, impacts = _run_host(exe, fmu_path, tmp_path, lib, lib.parent.parent)
+    ref_theta, ref_impacts = _fmpy_reference(fmu_path)
+    assert impacts == ref_impacts
+    assert theta == pytest.approx(ref_theta, abs=1e-12), f"Python {version}"
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(600)
+def test_deployed_outside_the_repository_with_only_fmpy(fmu_path, tmp_path):
+    """A copy of the .fmu in a folder of its own, a fresh virtual environment holding only fmpy."""
+    site = tmp_path / "elsewhere"
+    site.mkdir()
+    fmu = site / "PendulumImpactDamper.fmu"
+    shutil.copy2(fmu_path, fmu)
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
+    py = venv / "bin" / "python"
+    subprocess.run([str(py), "-m", "pip", "install", "--quiet", "fmpy"], check=True, timeout=500)
+    script = (
+        "import sys, zipfile, io, numpy as np, fmpy, importlib.util\n"
+        "assert importlib.util.find_spec('pythonfmu') is None and importlib.util.find_spec('pidamper') is None\n"
+        "r = fmpy.simulate_fmu(sys.argv[1], stop_time=20.0, output_interval=0.01)\n"
+        "ref = np.genfromtxt(io.BytesIO(zipfile.ZipFile(sys.argv[1]).read("
+        "'documentation/PendulumImpactDamper_ref.csv')), delimiter=',', names=True)\n"
+        "print(max(float(np.max(np.abs(r[n] - ref[n]))) for n in ref.dtype.names if n != 'time'))\n")
+    done = subprocess.run([str(py), "-c", script, str(fmu)], cwd=site, capture_output=True, text=True,
+                          env={k: v for k, v in os.environ.items() if k != "PYTHONPATH"})
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert float(done.stdout.strip()) == 0.0
