@@ -196,3 +196,33 @@ def test_foxglove_schemas(logged):
     assert topics["/damper/state"] == "pidamper.DamperState" and topics["/damper/impacts"] == "pidamper.Impact"
     assert topics["/tf"] == "foxglove.FrameTransforms" and topics["/scene"] == "foxglove.SceneUpdate"
     assert topics["/log"] == "foxglove.Log"
+
+
+def test_streams_live_to_a_viewer_connection(fmu_path, tmp_path):
+    """--connect streams while the run goes: a headless receiver (rerun --save) gets a recording
+    equal to the file written beside it."""
+    import socket
+
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    received = tmp_path / "received.rrd"
+    receiver = subprocess.Popen([_rerun_cli(), "--port", str(port), "--save", str(received)],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        time.sleep(2.0)
+        done = subprocess.run([sys.executable, "-m", "pidamper.cli", "run", "--fmu", str(fmu_path), "--periods", "2",
+                               "--out", str(tmp_path), "--connect", f"rerun+http://127.0.0.1:{port}/proxy"],
+                              capture_output=True, text=True, timeout=120)
+        assert done.returncode == 0, done.stderr
+        deadline = time.time() + 30
+        while time.time() < deadline:
+            compare = subprocess.run([_rerun_cli(), "rrd", "compare", "--unordered", str(received),
+                                      str(tmp_path / "run.rrd")], capture_output=True, text=True)
+            if compare.returncode == 0:
+                break
+            time.sleep(1.0)
+        assert compare.returncode == 0, compare.stderr[-2000:]
+    finally:
+        receiver.terminate()
+        receiver.wait(timeout=30)

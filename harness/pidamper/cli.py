@@ -90,6 +90,8 @@ def cmd_run(args):
         written = [str(p) for p in (logs.mcap, logs.rrd) if p is not None]
         print(f"logged to {' and '.join(written)} ({logs.impacts_recorded} impacts recorded individually, "
               f"{logs.impacts_unrecorded} counted only); CPU with logging {logs.cpu_time:.3f} s")
+    if args.serve:
+        _wait_for_viewers()
     return 0
 
 
