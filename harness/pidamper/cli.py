@@ -164,6 +164,11 @@ def _bench(rest):
     return bench_main(rest)
 
 
+def _study(rest):
+    from .study import main as study_main
+    return study_main(rest)
+
+
 def _stress(rest):
     from .bench.stress import main as stress_main
     return stress_main(rest)
@@ -211,10 +216,12 @@ def main(argv=None):
 
     sub.add_parser("bench", help="work-precision benchmark (pidamper bench --help)")
     sub.add_parser("stress", help="hard-case stability table (pidamper stress --help)")
+    sub.add_parser("study", help="parametric study over a grid (pidamper study --help)")
 
     argv = sys.argv[1:] if argv is None else list(argv)
-    if argv and argv[0] in ("bench", "stress"):  # their own parsers take the rest
-        return (_bench if argv[0] == "bench" else _stress)(argv[1:])
+    own = {"bench": _bench, "stress": _stress, "study": _study}
+    if argv and argv[0] in own:  # their own parsers take the rest
+        return own[argv[0]](argv[1:])
     args = parser.parse_args(argv)
     try:
         return args.func(args)
