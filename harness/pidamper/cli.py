@@ -164,6 +164,11 @@ def _bench(rest):
     return bench_main(rest)
 
 
+def _paper(rest):
+    from .paper import main as paper_main
+    return paper_main(rest)
+
+
 def _study(rest):
     from .study import main as study_main
     return study_main(rest)
@@ -217,9 +222,10 @@ def main(argv=None):
     sub.add_parser("bench", help="work-precision benchmark (pidamper bench --help)")
     sub.add_parser("stress", help="hard-case stability table (pidamper stress --help)")
     sub.add_parser("study", help="parametric study over a grid (pidamper study --help)")
+    sub.add_parser("paper", help="regenerate the paper's figures for both readings (pidamper paper --help)")
 
     argv = sys.argv[1:] if argv is None else list(argv)
-    own = {"bench": _bench, "stress": _stress, "study": _study}
+    own = {"bench": _bench, "stress": _stress, "study": _study, "paper": _paper}
     if argv and argv[0] in own:  # their own parsers take the rest
         return own[argv[0]](argv[1:])
     args = parser.parse_args(argv)
