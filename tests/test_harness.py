@@ -1,10 +1,12 @@
 """Harness: measures against closed forms, forcing signals, the run API and the command line."""
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
-from pidamper import CoreStepper, forcing, measures, run
+from pidamper import CoreStepper, forcing, isolated, measures, run
 from pidamper.cli import main
 
 W2 = math.sqrt(9.81)
@@ -129,8 +131,10 @@ def test_cli_run_writes_csv_and_reports_errors(tmp_path, capsys):
     bad.write_text("time,F\n0,0\n0.1,inf\n")
     assert main(["run", "--forcing", "csv", "--csv", str(bad), "--out", str(tmp_path)]) == 2
     assert "not allowed" in capsys.readouterr().err
-    assert main(["run", "-p", "e=1.5", "--periods", "1", "--no-log"]) == 2
-    assert "e = 1.5 is not allowed" in capsys.readouterr().err
+    # an FMU error ends that process's use of the FMU (fmi2Fatal): run it as its own process
+    done = subprocess.run([sys.executable, "-m", "pidamper.cli", "run", "-p", "e=1.5", "--periods", "1", "--no-log"],
+                          capture_output=True, text=True)
+    assert done.returncode == 2 and "e = 1.5 is not allowed" in done.stderr
 
 
 def test_agrees_with_independent_prototypes_of_the_physics_notes():
@@ -149,15 +153,9 @@ def test_agrees_with_independent_prototypes_of_the_physics_notes():
     assert round(ratios["printed"], 3) == 0.032
 
 
-def test_a_run_failing_half_way_keeps_its_rows():
+def test_a_run_failing_half_way_keeps_its_rows(fmu_path):
     """A force that turns non-finite at t = 1 s: the FMU refuses that step, and the rows
-    before it come back with the error."""
-    from pidamper import FmuError
-
-    bad = forcing.Forcing("csv", {"file": "x"}, table=(np.array([0.0, 0.999, 1.0, 2.0]),
-                                                        np.array([0.0, 0.0, np.inf, np.inf])))
-    with pytest.raises(FmuError) as err:
-        run({}, bad, stop_time=2.0, output_interval=0.1)
-    assert "F = inf is not allowed" in str(err.value)
-    partial = err.value.partial.data
-    assert partial["time"][-1] == pytest.approx(1.0) and np.isfinite(partial["theta"]).all()
+    before it come back with the error (in a child process: the FMU fails with fmi2Fatal)."""
+    result = isolated.call("pidamper.bench.fatal_checks:bad_input", str(fmu_path), float("inf"))
+    assert "F = inf is not allowed" in result["error"]
+    assert result["last_time"] == pytest.approx(1.0) and result["rows"] == 21 and result["finite"]
