@@ -98,7 +98,11 @@ fmu.setReal([vr["theta_dot_0"]], [0.7 * math.sqrt(9.81)]); fmu.exitInitializatio
 t = 0.0
 for k in range(137):
     fmu.doStep(currentCommunicationPoint=t, communicationStepSize=0.03); t += 0.03
-open(out, "wb").write(bytes(fmu.serializeFMUstate(fmu.getFMUstate())))
+state = fmu.getFMUstate()
+open(out, "wb").write(bytes(fmu.serializeFMUstate(state)))
+fmu.freeFMUstate(state)
+fmu.terminate()
+fmu.freeInstance()
 print(repr(t))
 """
 
