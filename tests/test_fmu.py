@@ -32,7 +32,8 @@ def test_model_description_contract(fmu_path):
     assert by_name["contact_form"].type == "Integer"
     assert by_name["energy_dissipated"].unit == "J" and by_name["a"].unit == "m/s2"
     deps = {u.variable.name: [d.name for d in u.dependencies] for u in md.outputs}
-    assert deps["theta"] == [] and deps["a"] == ["F"] and deps["contact_force"] == ["F"]
+    assert deps["theta"] == [] and deps["a"] == ["F", "a_g"] and deps["contact_force"] == ["F", "a_g"]
+    assert by_name["a_g"].causality == "input" and by_name["a_g"].unit == "m/s2"
     assert md.coSimulation.canGetAndSetFMUstate and md.coSimulation.canSerializeFMUstate
     assert md.defaultExperiment.stopTime == "20.0" or float(md.defaultExperiment.stopTime) == 20.0
 

@@ -1,6 +1,7 @@
 """PendulumImpactDamper: a pythonfmu Fmi2Slave that is a thin adapter over Damper.
 
-Variables (names are a contract): input F [N]; parameters g, M, mu, L2, FR, d,
+Variables (names are a contract): inputs F [N] and a_g [m/s2] (ground acceleration of a
+base excitation: it acts on both bodies, whose x and y are then measured from the ground); parameters g, M, mu, L2, FR, d,
 d_angle, e (tunable), contact_form, F0, Omega, phi and the initial state
 theta_0, theta_dot_0, alpha_0, alpha_dot_0; outputs theta, theta_dot, alpha,
 alpha_dot, x, y, z, a, impacts, contact, contact_force, energy,
@@ -105,8 +106,11 @@ class PendulumImpactDamper(Fmi2Slave):
         self._initialized = False
         self._core = None
         self.F = 0.0
+        self.a_g = 0.0
         self.register_variable(Real("F", causality=Fmi2Causality.input, variability=Fmi2Variability.continuous,
                                     description="horizontal force on the primary mass [N]"))
+        self.register_variable(Real("a_g", causality=Fmi2Causality.input, variability=Fmi2Variability.continuous,
+                                    description="ground acceleration of a base excitation [m/s2]"))
         for name, kind, start, *_ in PARAMETERS:
             setattr(self, name, start)
             tunable = name == "e"
@@ -205,11 +209,13 @@ class PendulumImpactDamper(Fmi2Slave):
         if abs(current_time - t) > _TIME_TOLERANCE * max(abs(t), step_size):
             self._fail("currentCommunicationPoint", current_time,
                        f"it must equal the FMU time {t!r} (relative tolerance {_TIME_TOLERANCE})")
-        force = self.F
+        force, ground = self.F, self.a_g
         if not math.isfinite(force):
             self._fail("F", force, "the input must be finite")
+        if not math.isfinite(ground):
+            self._fail("a_g", ground, "the input must be finite")
         self._in_step = 0
-        core.advance(max(current_time + step_size, t), force)
+        core.advance(max(current_time + step_size, t), force, ground)
         return True
 
     # ---- outputs --------------------------------------------------------------------
@@ -241,7 +247,7 @@ class PendulumImpactDamper(Fmi2Slave):
         return c.x - c.y
 
     def _out_a(self):
-        return self._core_now().acceleration(self.F)
+        return self._core_now().acceleration(self.F, self.a_g)
 
     def _out_impacts(self):
         return self._core_now().impacts
@@ -250,7 +256,7 @@ class PendulumImpactDamper(Fmi2Slave):
         return self._core_now().contact
 
     def _out_contact_force(self):
-        return self._core_now().contact_force(self.F)
+        return self._core_now().contact_force(self.F, self.a_g)
 
     def _out_energy(self):
         return self._core_now().energy
@@ -266,6 +272,7 @@ class PendulumImpactDamper(Fmi2Slave):
     def _get_fmu_state(self):
         state = {name: getattr(self, name) for name, *_ in PARAMETERS}
         state["F"] = self.F
+        state["a_g"] = self.a_g
         state["_t0"] = self._t0
         state["_initialized"] = self._initialized
         state["_core"] = self._core.get_state() if self._initialized else None
@@ -277,6 +284,7 @@ class PendulumImpactDamper(Fmi2Slave):
         for name, *_ in PARAMETERS:
             setattr(self, name, state[name])
         self.F = state["F"]
+        self.a_g = state["a_g"]
         self._t0 = state["_t0"]
         self._initialized = state["_initialized"]
         self._in_step = state["_in_step"]
@@ -295,6 +303,7 @@ class PendulumImpactDamper(Fmi2Slave):
         info = {name: (unit, lo, hi, desc) for name, _, _, unit, lo, hi, desc in PARAMETERS}
         info.update({name: (unit, None, None, desc) for name, _, unit, desc, _ in OUTPUTS + RECORD_OUTPUTS})
         info["F"] = ("N", None, None, "horizontal force on the primary mass")
+        info["a_g"] = ("m/s2", None, None, "ground acceleration of a base excitation (acts on both bodies)")
         index = {}
         for i, sv in enumerate(root.find("ModelVariables"), start=1):
             name = sv.get("name")
@@ -315,7 +324,7 @@ class PendulumImpactDamper(Fmi2Slave):
         outputs = SubElement(structure, "Outputs")
         initial = SubElement(structure, "InitialUnknowns")
         for name, _, _, _, feedthrough in OUTPUTS + RECORD_OUTPUTS:
-            deps = str(index["F"]) if feedthrough else ""
+            deps = f"{index['F']} {index['a_g']}" if feedthrough else ""
             SubElement(outputs, "Unknown", index=str(index[name]), dependencies=deps)
             SubElement(initial, "Unknown", index=str(index[name]))
         return root

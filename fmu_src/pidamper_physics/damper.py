@@ -77,16 +77,19 @@ class Damper:
 
     # ---- public API -------------------------------------------------------------------
 
-    def advance(self, t_end, force=0.0, observe=None):
-        """Move to time t_end [s] with the external force `force` [N] held constant.
-        observe(seg, t0, t1), if given, sees each smooth piece before the state leaves it:
-        the segment `seg` started at t0 and holds up to t1 (events, if any, at t1)."""
-        if not (math.isfinite(force) and math.isfinite(t_end)):
+    def advance(self, t_end, force=0.0, ground=0.0, observe=None):
+        """Move to time t_end [s] with the external force `force` [N] on the primary and the
+        ground acceleration `ground` [m/s2] of a base excitation (it acts on both bodies; x and y
+        are then measured from the moving ground) held constant.  observe(seg, t0, t1), if
+        given, sees each smooth piece before the state leaves it: the segment `seg` started at
+        t0 and holds up to t1 (events, if any, at t1)."""
+        if not (math.isfinite(force) and math.isfinite(t_end) and math.isfinite(ground)):
             check_finite("F", force)
+            check_finite("a_g", ground)
             check_finite("t_end", t_end)
         if t_end < self.t:
             raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
-        fc = force / self.p.M
+        fc = (force / self.p.M - ground, -ground)  # loads per mass on the primary and the particle
         ready = None  # a flight segment already built at the current state by the last event
         while self.t < t_end:
             horizon = t_end - self.t
@@ -107,7 +110,7 @@ class Damper:
             self._move(seg, tau, t_new)
             ready = self._handle(kind, 1 - 2 * guard, fc, min(t_end - self.t, self._max_span))
 
-    def dense(self, times, force=0.0):
+    def dense(self, times, force=0.0, ground=0.0):
         """Advance to times[-1] and return x, v, y, u [m, m/s] at the sorted times (>= now) from
         the closed-form pieces, without restarting the motion at each output time."""
         times = [float(t) for t in times]
@@ -125,7 +128,7 @@ class Damper:
                 rows.append((self.x, self.v, self.y, self.u))
                 k += 1
         if times:
-            self.advance(times[-1], force, observe=take)
+            self.advance(times[-1], force, ground, observe=take)
         while len(rows) < len(times):  # times equal to the end, after the last piece
             rows.append((self.x, self.v, self.y, self.u))
         return rows
@@ -138,20 +141,21 @@ class Damper:
         """+1 / -1 while the particle rides that stop, else 0."""
         return self.side if self.mode == STICK else 0
 
-    def acceleration(self, force=0.0):
-        """Primary acceleration [m/s2] at the current state under held force `force` [N]."""
+    def acceleration(self, force=0.0, ground=0.0):
+        """Primary acceleration [m/s2] (relative to the ground) under held force `force` [N] and
+        ground acceleration `ground` [m/s2]."""
         p = self.p
         f = force / p.M + p.F0 / p.M * math.sin(p.Omega * self.t + p.phi)
         if self.mode != STICK:
-            return f - p.w2 * p.w2 * self.x
-        return (f + p.mu * p.w1 * p.w1 * (self.side * p.d - self.x) - p.w2 * p.w2 * self.x) / (1.0 + p.mu)
+            return f - p.w2 * p.w2 * self.x - ground
+        return (f + p.mu * p.w1 * p.w1 * (self.side * p.d - self.x) - p.w2 * p.w2 * self.x) / (1.0 + p.mu) - ground
 
-    def contact_force(self, force=0.0):
+    def contact_force(self, force=0.0, ground=0.0):
         """Force [N] of the stop on the particle while it rides a stop, else 0."""
         if self.mode != STICK:
             return 0.0
         p = self.p
-        return p.m * (self.acceleration(force) + p.w1 * p.w1 * (self.x - self.side * p.d))
+        return p.m * (self.acceleration(force, ground) + p.w1 * p.w1 * (self.x - self.side * p.d) + ground)
 
     def get_state(self):
         """Plain dict (JSON-safe) of everything that determines the future motion."""
@@ -169,13 +173,15 @@ class Damper:
             0.5 * p.m * (self.u * self.u + p.w1 * p.w1 * self.y * self.y)
 
     def _segment(self, fc, horizon):
+        """The segment from the current state and mode; fc = (loads per mass on primary, particle)."""
         p = self.p
         psi = p.Omega * self.t + p.phi
+        fx, fy = fc
         if self.mode == STICK:
-            return Stick(p, self.x, self.v, self.side, fc, psi, horizon)
+            return Stick(p, self.x, self.v, self.side, fx, fy, psi, horizon)
         if self.mode == OUTSIDE:
-            return Outside(p, self.x, self.v, self.y, self.u, fc, psi, horizon, self.side)
-        return Flight(p, self.x, self.v, self.y, self.u, fc, psi, horizon)
+            return Outside(p, self.x, self.v, self.y, self.u, fx, fy, psi, horizon, self.side)
+        return Flight(p, self.x, self.v, self.y, self.u, fx, fy, psi, horizon)
 
     def _move(self, seg, tau, t_new):
         """Take the state at tau of the segment; the work of the forces is the energy change."""
@@ -199,7 +205,7 @@ class Damper:
         self._snap(side)
         if kind == CROSS:
             self._impact(side)
-        seg = Flight(self.p, self.x, self.v, self.y, self.u, fc, self.p.Omega * self.t + self.p.phi, span,
+        seg = Flight(self.p, self.x, self.v, self.y, self.u, fc[0], fc[1], self.p.Omega * self.t + self.p.phi, span,
                      always_bound=True)
         mode = self._after_contact(seg, side, kind == CROSS)
         self._switch(mode, 0 if mode == FREE else side)

@@ -10,8 +10,9 @@
   oscillator; guard = side * N / m, the contact force per particle mass.
 
 Every segment is built at its start t0 for a horizon T (so its derivative bounds
-hold on [0, T]) with the external force held at fc = F / M and the built-in
-harmonic at phase psi = Omega t0 + phi.  See events.py for the guard protocol.
+hold on [0, T]) with the loads held over it: fx = F / M - a_g on the primary and
+fy = -a_g on the particle (a_g the ground acceleration of a base excitation), and the
+built-in harmonic at phase psi = Omega t0 + phi.  See events.py for the guard protocol.
 """
 import math
 
@@ -29,26 +30,26 @@ TOLERANCE = _ULPS * _EPS  # relative rounding level of a guard at tau = 0
 class Flight:
     """Free flight of both pendulums; guards = distances to the two stops.
 
-    The particle is unforced; so is the primary without a built-in harmonic, and then
-    the gap is evaluated inline (this is the solver's innermost loop).
+    Without a built-in harmonic both motions are plain sinusoids about their equilibria,
+    and the gap is evaluated inline (this is the solver's innermost loop).
     """
 
     __slots__ = ("px", "py", "cx", "cy", "D", "bounds", "noise", "growth", "clear", "sgn", "inline", "start",
-                 "w2", "xe", "a2", "b2", "w1", "a1", "b1")
+                 "w2", "xe", "a2", "b2", "w1", "ye", "a1", "b1")
 
-    def __init__(self, p, x, v, y, u, fc, psi, T, always_bound=False):
+    def __init__(self, p, x, v, y, u, fx, fy, psi, T, always_bound=False):
         a = p.F0 / p.M
-        self.px = px = Oscillator(p.w2, x, v, fc, a, p.Omega, psi)
-        self.py = py = Oscillator(p.w1, y, u)
+        self.px = px = Oscillator(p.w2, x, v, fx, a, p.Omega, psi)
+        self.py = py = Oscillator(p.w1, y, u, fy)
         cx, cy, D = p.cx, p.cy, p.D
         self.cx, self.cy, self.D = cx, cy, D
         self.sgn = 0
         self.start = None  # gap derivatives at tau = 0, once computed
         self.inline = a == 0.0
         self.w2, self.xe, self.a2, self.b2 = px.w, px.xe, px.A, px.B
-        self.w1, self.a1, self.b1 = py.w, py.A, py.B
+        self.w1, self.ye, self.a1, self.b1 = py.w, py.xe, py.A, py.B
         xh, vh = px.harmonic_bounds(T)
-        zmax = cx * (abs(px.xe) + px.R + xh) + cy * py.R
+        zmax = cx * (abs(px.xe) + px.R + xh) + cy * (abs(py.xe) + py.R)
         tol = TOLERANCE
         self.growth = max(p.w1, p.w2, p.Omega)
         n0 = tol * (D + zmax)
@@ -59,7 +60,8 @@ class Flight:
         bx = px.bounds(T)
         by = py.bounds(T)
         self.bounds = (cx * bx[2] + cy * by[2], cx * bx[3] + cy * by[3], cx * bx[4] + cy * by[4])
-        self.noise = (n0, tol * (cx * bx[1] + cy * by[1]), tol * (cx * (bx[2] + px.ww * abs(px.xe)) + cy * by[2]),
+        self.noise = (n0, tol * (cx * bx[1] + cy * by[1]),
+                      tol * (cx * (bx[2] + px.ww * abs(px.xe)) + cy * (by[2] + py.ww * abs(py.xe))),
                       tol * (cx * bx[3] + cy * by[3]))
 
     def positions(self, tau):
@@ -70,7 +72,7 @@ class Flight:
             s1, c1 = math.sin(w1 * tau), math.cos(w1 * tau)
             a2, b2, a1, b1 = self.a2, self.b2, self.a1, self.b1
             return (self.xe + a2 * c2 + b2 * s2, w2 * (b2 * c2 - a2 * s2),
-                    a1 * c1 + b1 * s1, w1 * (b1 * c1 - a1 * s1))
+                    self.ye + a1 * c1 + b1 * s1, w1 * (b1 * c1 - a1 * s1))
         x, v, _, _ = self.px.state(tau)
         y, u, _, _ = self.py.state(tau)
         return x, v, y, u
@@ -95,7 +97,7 @@ class Flight:
             s2, c2 = math.sin(w2 * tau), math.cos(w2 * tau)
             s1, c1 = math.sin(w1 * tau), math.cos(w1 * tau)
             a2, b2, a1, b1 = self.a2, self.b2, self.a1, self.b1
-            z = cx * (self.xe + a2 * c2 + b2 * s2) - cy * (a1 * c1 + b1 * s1)
+            z = cx * (self.xe + a2 * c2 + b2 * s2) - cy * (self.ye + a1 * c1 + b1 * s1)
             dz = cx * w2 * (b2 * c2 - a2 * s2) - cy * w1 * (b1 * c1 - a1 * s1)
         else:
             x, v, _, _ = self.px.state(tau)
@@ -120,8 +122,8 @@ class Outside(Flight):
 
     __slots__ = ()
 
-    def __init__(self, p, x, v, y, u, fc, psi, T, sgn):
-        Flight.__init__(self, p, x, v, y, u, fc, psi, T, always_bound=True)
+    def __init__(self, p, x, v, y, u, fx, fy, psi, T, sgn):
+        Flight.__init__(self, p, x, v, y, u, fx, fy, psi, T, always_bound=True)
         self.sgn = sgn
         self.clear = False
 
@@ -141,22 +143,22 @@ class Stick:
 
     __slots__ = ("osc", "sgn", "d", "k", "base", "a", "om", "bounds", "noise", "growth", "clear")
 
-    def __init__(self, p, x, v, sgn, fc, psi, T):
+    def __init__(self, p, x, v, sgn, fx, fy, psi, T):
         mu, w1, w2, d = p.mu, p.w1, p.w2, p.d
         ww1 = w1 * w1
         big_w = math.sqrt((w2 * w2 + mu * ww1) / (1.0 + mu))
         a = p.F0 / p.M / (1.0 + mu)
-        c = (mu * ww1 * sgn * d + fc) / (1.0 + mu)
+        c = (mu * ww1 * sgn * d + fx + mu * fy) / (1.0 + mu)
         self.osc = osc = Oscillator(big_w, x, v, c, a, p.Omega, psi)
         self.sgn, self.d, self.a, self.om = sgn, d, a, p.Omega
         self.k = k = ww1 - osc.ww
-        self.base = ww1 * (osc.xe - sgn * d)
+        self.base = ww1 * (osc.xe - sgn * d) - fy  # N/m = x'' + w1^2 (x - sgn d) - fy
         P = osc.bounds(T)
         aa, om = abs(a), p.Omega
         self.bounds = tuple(abs(k) * P[j] + aa * om ** j for j in (2, 3, 4))
         tol = TOLERANCE
         self.growth = max(big_w, p.Omega)
-        self.noise = (tol * (abs(k) * (abs(osc.xe) + P[0]) + ww1 * (abs(osc.xe) + d) + aa),
+        self.noise = (tol * (abs(k) * (abs(osc.xe) + P[0]) + ww1 * (abs(osc.xe) + d) + aa + abs(fy)),
                       tol * (abs(k) * P[1] + aa * om),
                       tol * (abs(k) * (P[2] + osc.ww * abs(osc.xe)) + aa * om * om),
                       tol * (abs(k) * P[3] + aa * om ** 3))

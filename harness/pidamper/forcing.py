@@ -1,9 +1,10 @@
-"""Forcing signals for a damper run: what the FMU's input F (and built-in harmonic) receive.
+"""Forcing signals for a damper run: what the FMU's inputs (and built-in harmonic) receive.
 
 A `Forcing` either sets the FMU's built-in harmonic (exact: the FMU integrates
-F0 sin(Omega t + phi) in closed form) or supplies a signal F(t) [N] that the host
-samples at the start of each communication step and holds over it (the FMU has
-canInterpolateInputs = false, so the FMU sees a zero-order hold).
+F0 sin(Omega t + phi) in closed form) or supplies a signal that the host samples at the
+start of each communication step and holds over it (the FMU has canInterpolateInputs =
+false, so the FMU sees a zero-order hold): a force F(t) [N] on the primary (input F), or a
+ground acceleration a_g(t) [m/s2] of a base excitation (input a_g, acting on both bodies).
 """
 import csv
 import hashlib
@@ -21,11 +22,12 @@ class Forcing:
     kind: str
     args: dict = field(default_factory=dict)
     start_values: dict = field(default_factory=dict)  # FMU parameters it sets (built-in harmonic)
-    signal: object = None  # callable F(t) [N] on numpy arrays, or None
-    table: object = None  # (time, F) arrays of a recorded signal, or None
+    signal: object = None  # callable on numpy arrays of time, or None
+    table: object = None  # (time, value) arrays of a recorded signal, or None
+    target: str = "F"  # the FMU input it drives: "F" [N] or "a_g" [m/s2]
 
     def value(self, t):
-        """Force [N] at time(s) t (0 without an external signal)."""
+        """The signal [N or m/s2] at time(s) t (0 without an external signal)."""
         if self.table is not None:
             times, values = self.table
             return np.interp(t, times, values)
@@ -34,13 +36,13 @@ class Forcing:
         return self.signal(np.asarray(t, dtype=float))
 
     def input_array(self, times):
-        """fmpy input (structured array time, F) sampled on the communication grid, or None."""
+        """fmpy input (structured array time, F or a_g) sampled on the communication grid, or None."""
         if self.signal is None and self.table is None:
             return None
         times = np.asarray(times, dtype=float)
-        signal = np.zeros(len(times), dtype=[("time", np.float64), ("F", np.float64)])
+        signal = np.zeros(len(times), dtype=[("time", np.float64), (self.target, np.float64)])
         signal["time"] = times
-        signal["F"] = self.value(times)
+        signal[self.target] = self.value(times)
         return signal
 
 
@@ -72,14 +74,16 @@ def sweep(F0, Omega_start, Omega_end, duration):
 
 
 def from_csv(path):
-    """A recorded force: CSV with header `time,F` (s, N), time strictly increasing."""
+    """A recorded signal: CSV with header `time,F` (s, N: a force) or `time,a_g` (s, m/s2: a
+    ground acceleration, e.g. a recorded accelerogram), time strictly increasing."""
     path = Path(path)
     times, values = [], []
     with path.open(newline="") as handle:
         reader = csv.reader(handle)
         header = [h.strip() for h in next(reader, [])]
-        if header[:2] != ["time", "F"]:
-            raise ValueError(f"{path}: header {header!r} is not allowed: the first two columns must be 'time,F'")
+        if header[:2] not in (["time", "F"], ["time", "a_g"]):
+            raise ValueError(f"{path}: header {header!r} is not allowed: the first two columns must be "
+                             "'time,F' (a force, N) or 'time,a_g' (a ground acceleration, m/s2)")
         for line, row in enumerate(reader, start=2):
             try:
                 t, f = float(row[0]), float(row[1])
@@ -94,8 +98,32 @@ def from_csv(path):
     if len(times) < 2:
         raise ValueError(f"{path}: {len(times)} samples is not allowed: at least 2 are needed")
     digest = hashlib.sha256(path.read_bytes()).hexdigest()
-    return Forcing("csv", {"file": path.name, "sha256": digest, "samples": len(times)},
-                   table=(np.array(times), np.array(values)))
+    return Forcing("csv", {"file": path.name, "sha256": digest, "samples": len(times), "input": header[1]},
+                   table=(np.array(times), np.array(values)), target=header[1])
+
+
+def kanai_tajimi(duration, dt=0.005, pga=2.0, omega_g=15.6, zeta_g=0.6, seed=1, rise=2.0, strong=None):
+    """A synthetic accelerogram a_g(t) [m/s2]: white noise (fixed seed) through the Kanai-Tajimi
+    filter (ground frequency omega_g [rad/s], damping zeta_g), shaped by a Jennings envelope (rise
+    `rise` s, strong motion until `strong` s, then exponential decay) and scaled to peak `pga`."""
+    from scipy import signal as sps
+
+    args = {"duration": float(duration), "dt": float(dt), "pga": float(pga), "omega_g": float(omega_g),
+            "zeta_g": float(zeta_g), "seed": int(seed), "rise": float(rise)}
+    _check_finite(args)
+    for name in ("duration", "dt", "omega_g", "zeta_g", "pga"):
+        if args[name] <= 0:
+            raise ValueError(f"{name} = {args[name]!r} is not allowed: it must be > 0")
+    strong = 0.5 * duration if strong is None else float(strong)
+    t = np.arange(0.0, duration + 0.5 * dt, dt)
+    noise = np.random.default_rng(seed).standard_normal(len(t)) / math.sqrt(dt)
+    kt = sps.lti([2 * zeta_g * omega_g, omega_g ** 2], [1.0, 2 * zeta_g * omega_g, omega_g ** 2])
+    _, filtered, _ = sps.lsim(kt, noise, t)
+    envelope = np.where(t < rise, (t / rise) ** 2, np.where(t < strong, 1.0, np.exp(-0.5 * (t - strong))))
+    accel = filtered * envelope
+    accel *= pga / np.max(np.abs(accel))
+    args["strong"] = strong
+    return Forcing("kanai-tajimi", args, table=(t, accel), target="a_g")
 
 
 def _check_finite(args):

@@ -22,6 +22,7 @@ from .records import IMPACT_DTYPE, STATE_DTYPE, STATE_FIELDS, geometry, run_info
 from .simulation import FmuError, run
 
 IMPACT_SLOTS = 16
+INPUTS = ("F", "a_g")  # state columns that come from the forcing, not from the FMU
 _SLOT_REALS = ("t", "v_rel_before", "v_rel_after", "energy_lost", "theta")
 
 
@@ -104,7 +105,7 @@ class Collector:
         md = recorder.modelDescription
         vr = {v.name: v.valueReference for v in md.modelVariables}
         names = [c[0] for c in recorder.cols]
-        self.columns = [names.index(f) for f in STATE_FIELDS if f != "F"]
+        self.columns = [names.index(f) for f in STATE_FIELDS if f not in INPUTS]
         self.col_in_step = names.index("impacts_in_step")
         self.col_impacts = names.index("impacts")
         self.vr_reals = [[vr[f"impact[{k + 1}].{f}"] for f in _SLOT_REALS] for k in range(IMPACT_SLOTS)]
@@ -132,11 +133,11 @@ class Collector:
         states = np.zeros(len(self.states), dtype=STATE_DTYPE)
         if len(self.states):
             table = np.array(self.states, dtype=np.float64)
-            for j, name in enumerate(f for f in STATE_FIELDS if f != "F"):
+            for j, name in enumerate(f for f in STATE_FIELDS if f not in INPUTS):
                 states[name] = table[:, j]
-            # the force held over the step that ends at each row (the first row: at t0)
+            # the input held over the step that ends at each row (the first row: at t0)
             held_from = np.concatenate([[self.held_from], states["time"][:-1]])
-            states["F"] = self.forcing.value(held_from)
+            states[self.forcing.target] = self.forcing.value(held_from)
             self.held_from = states["time"][-1]
         self.sinks.write(states, np.array(self.impacts, dtype=IMPACT_DTYPE))
         self.states, self.impacts = [], []

@@ -36,7 +36,8 @@ def _schema(title, fields, descriptions):
 
 
 STATE_SCHEMA = _schema("pidamper.DamperState", STATE_FIELDS, {
-    "time": "s", "F": "N, external force held over the step ending here", "theta": "rad", "theta_dot": "rad/s",
+    "time": "s", "F": "N, external force held over the step ending here",
+    "a_g": "m/s2, ground acceleration held over the step ending here", "theta": "rad", "theta_dot": "rad/s",
     "alpha": "rad", "alpha_dot": "rad/s", "x": "m", "y": "m", "contact": "0 free, +1/-1 riding that stop",
     "impacts": "impacts so far", "energy": "J", "energy_dissipated": "J", "work_in": "J"})
 IMPACT_SCHEMA = _schema("pidamper.Impact", IMPACT_FIELDS, {

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-STATE_FIELDS = ("time", "F", "theta", "theta_dot", "alpha", "alpha_dot", "x", "y", "contact", "impacts",
+STATE_FIELDS = ("time", "F", "a_g", "theta", "theta_dot", "alpha", "alpha_dot", "x", "y", "contact", "impacts",
                 "energy", "energy_dissipated", "work_in")
 STATE_DTYPE = np.dtype([(n, np.int64 if n in ("contact", "impacts") else np.float64) for n in STATE_FIELDS])
 

@@ -26,6 +26,7 @@ SERIES = (  # entity, state field, colour
     ("plots/energy/energy_dissipated", "energy_dissipated", (200, 60, 50)),
     ("plots/energy/work_in", "work_in", (120, 120, 120)),
     ("plots/force/F", "F", (120, 60, 160)),
+    ("plots/force/a_g", "a_g", (160, 100, 40)),
     ("plots/impacts/count", "impacts", (200, 60, 50)),
 )
 MARKERS = "plots/angles/impacts"

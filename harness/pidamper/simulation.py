@@ -24,7 +24,7 @@ OUTPUTS = ("theta", "theta_dot", "alpha", "alpha_dot", "x", "y", "z", "a", "impa
 
 @dataclass
 class RunResult:
-    data: np.ndarray  # structured: time, F (force held over the step that ends there), OUTPUTS
+    data: np.ndarray  # structured: time, F and a_g (inputs held over the step that ends there), OUTPUTS
     fmu: str
     parameters: dict
     forcing: Forcing
@@ -108,14 +108,13 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
 
 
 def _with_force(data, forcing):
-    """Add column F: the force held over the step ending at each row (first row: at t0)."""
-    out = np.zeros(len(data), dtype=[("time", np.float64), ("F", np.float64)] +
+    """Add columns F and a_g: the inputs held over the step ending at each row (first row: at t0)."""
+    out = np.zeros(len(data), dtype=[("time", np.float64), ("F", np.float64), ("a_g", np.float64)] +
                    [(n, data.dtype[n]) for n in data.dtype.names if n != "time"])
     for name in data.dtype.names:
         out[name] = data[name]
     t = data["time"]
-    held = forcing.value(np.concatenate([t[:1], t[:-1]]))
-    out["F"] = held
+    out[forcing.target] = forcing.value(np.concatenate([t[:1], t[:-1]]))
     return out
 
 

@@ -57,7 +57,7 @@ class FmuStepper:
 
     def advance(self, t_end):
         if self.forcing is not None:
-            self.set("F", float(self.forcing.value(self.t)))
+            self.set(self.forcing.target, float(self.forcing.value(self.t)))
         self.do_step(self.t, t_end - self.t)
 
     def do_step(self, current_time, step_size):
@@ -127,8 +127,11 @@ class CoreStepper:
         return self.core.t
 
     def advance(self, t_end):
-        force = 0.0 if self.forcing is None else float(self.forcing.value(self.core.t))
-        self.core.advance(t_end, force)
+        value = 0.0 if self.forcing is None else float(self.forcing.value(self.core.t))
+        if self.forcing is not None and self.forcing.target == "a_g":
+            self.core.advance(t_end, 0.0, value)
+        else:
+            self.core.advance(t_end, value)
 
     def read(self):
         c = self.core
