@@ -31,6 +31,7 @@ class Case:
     M: float = 1.0
     held: object = field(default=None, compare=False)  # (times, F values) when sampled
     grazing: bool = False  # the reference must not step over a shallow dip through a stop
+    ground: float = 0.0  # constant ground acceleration of a base excitation [m/s2]
 
     @property
     def ref_max_step(self):

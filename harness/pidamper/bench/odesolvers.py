@@ -92,14 +92,15 @@ class _EventDriven:
 
     def free_rhs(self, t, s):
         x, v, y, u = s
-        return [v, self.f(t) - self.w2sq * x, u, -self.w1sq * y]
+        ag = self.c.ground  # a base excitation acts on both bodies
+        return [v, self.f(t) - self.w2sq * x - ag, u, -self.w1sq * y - ag]
 
     def stick_rhs(self, side):
         c, mu = self.c, self.c.mu
 
         def rhs(t, s):
             x, v = s
-            acc = (self.f(t) + mu * self.w1sq * side * c.d - (self.w2sq + mu * self.w1sq) * x) / (1 + mu)
+            acc = (self.f(t) + mu * self.w1sq * side * c.d - (self.w2sq + mu * self.w1sq) * x) / (1 + mu) - c.ground
             return [v, acc]
         return rhs
 
@@ -109,8 +110,8 @@ class _EventDriven:
 
         def g(t, s):
             x = s[0]
-            acc = (self.f(t) + mu * self.w1sq * side * c.d - (self.w2sq + mu * self.w1sq) * x) / (1 + mu)
-            return side * (acc + self.w1sq * (x - side * c.d))
+            acc = (self.f(t) + mu * self.w1sq * side * c.d - (self.w2sq + mu * self.w1sq) * x) / (1 + mu) - c.ground
+            return side * (acc + self.w1sq * (x - side * c.d) + c.ground)
         return g
 
     def rel_acc(self, t, x, y):
