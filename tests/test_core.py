@@ -177,7 +177,6 @@ def test_sticking_and_release_follow_the_combined_oscillator():
     assert not events  # neither the start nor the release is an impact
     # find the release instant to machine precision by bisection on the mode
     lo, hi = released - step, released
-    state_lo = None
     for _ in range(60):
         dm = Damper(p, theta0=x0 / L2, theta_dot0=v0 / L2, alpha0=(x0 - d) / p.L1, alpha_dot0=v0 / p.L1)
         mid = 0.5 * (lo + hi)
@@ -194,7 +193,6 @@ def test_sticking_and_release_follow_the_combined_oscillator():
 def test_no_livelock_and_no_penetration(e):
     p = Params(mu=0.1, FR=5.0, d=0.1, e=e)
     dm = Damper(p, theta_dot0=0.7 * W2)
-    events = record(dm)
     worst = 0.0
     for t, x, v, y, u in march(dm, 30 * PERIOD, 3000):
         worst = max(worst, abs(x - y) - p.d)

@@ -5,7 +5,6 @@ import sys
 import fmpy
 import numpy as np
 import pytest
-from fmpy.fmi1 import FMICallException
 from fmpy.validation import validate_fmu
 
 from pidamper import CoreStepper, FmuStepper, forcing

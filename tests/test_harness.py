@@ -126,7 +126,7 @@ def test_cli_run_writes_csv_and_reports_errors(tmp_path, capsys):
     assert main(["run", "--forcing", "harmonic", "--periods", "2", "--output-interval", "0.02",
                  "-p", "mu=0.02", "--csv-out", str(out), "--out", str(tmp_path)]) == 0
     assert "impacts" in capsys.readouterr().out and out.is_file()
-    assert (tmp_path / "run.mcap").is_file() and (tmp_path / "run.rrd").is_file()
+    assert (tmp_path / "default.mcap").is_file() and (tmp_path / "default.rrd").is_file()  # named by the scene
     bad = tmp_path / "bad.csv"
     bad.write_text("time,F\n0,0\n0.1,inf\n")
     assert main(["run", "--forcing", "csv", "--csv", str(bad), "--out", str(tmp_path)]) == 2

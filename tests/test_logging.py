@@ -154,7 +154,7 @@ def test_failed_run_keeps_readable_logs(fmu_path, tmp_path):
 
 def _start_long_run(fmu_path, out):
     cmd = [sys.executable, "-m", "pidamper.cli", "run", "--fmu", str(fmu_path), "--out", str(out),
-           "--periods", "100000", "--output-interval", "0.005"]
+           "--periods", "100000", "--output-interval", "0.005", "--name", "run"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 60
     while time.time() < deadline:  # until the MCAP holds a few chunks
@@ -210,7 +210,8 @@ def test_streams_live_to_a_viewer_connection(fmu_path, tmp_path):
     try:
         time.sleep(2.0)
         done = subprocess.run([sys.executable, "-m", "pidamper.cli", "run", "--fmu", str(fmu_path), "--periods", "2",
-                               "--out", str(tmp_path), "--connect", f"rerun+http://127.0.0.1:{port}/proxy"],
+                               "--out", str(tmp_path), "--name", "run",
+                               "--connect", f"rerun+http://127.0.0.1:{port}/proxy"],
                               capture_output=True, text=True, timeout=120)
         assert done.returncode == 0, done.stderr
         deadline = time.time() + 30

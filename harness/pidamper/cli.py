@@ -1,6 +1,6 @@
-"""Command line: pidamper run | replay | demo.
+"""Command line: pidamper run | replay | demo | bench | stress | study | paper.
 
-    pidamper run [--forcing none|harmonic|sweep|csv] [-p NAME=VALUE ...] [--stop-time S | --periods N]
+    pidamper run [SCENE] [--forcing KIND] [-p NAME=VALUE ...] [--stop-time S | --periods N]
                  [--output-interval H] [--fmu PATH] [--csv-out FILE] [--out DIR] [--serve | --connect URL]
     pidamper replay RUN.mcap --out FILE.rrd [--serve | --connect URL]
     pidamper demo [--out DIR]
@@ -11,20 +11,12 @@ import sys
 import time
 from pathlib import Path
 
-from . import forcing as forcing_mod
+from . import scene as scene_mod
 from .fmu import find_fmu
 from .logged_run import replay, run_logged
-from .simulation import FmuError, resonance, run
+from .simulation import FmuError, run
 from .stepper import FmuStepper
 from . import measures
-
-# the paper's free-vibration case (section 3) and forced case (section 4); Tables 1 and 2
-# were lost, the values not named in the text are ours (README, "Default scenes")
-FREE_DECAY = {"mu": 0.1, "FR": 5.0, "d": 0.1, "e": 0.2, "L2": 1.0, "g": 9.81, "theta_dot_0": 0.7 * math.sqrt(9.81)}
-RESONANCE = {"mu": 0.02, "FR": 5.0, "d": 0.1, "e": 0.2, "L2": 1.0, "g": 9.81, "theta_dot_0": 0.0}
-RESONANCE_F0 = 0.01 * 9.81  # N: F0 = 0.01 M g with M = 1 kg
-RESONANCE_PERIODS = 20
-
 
 def _parse_param(text):
     name, sep, value = text.partition("=")
@@ -37,54 +29,75 @@ def _parse_param(text):
     return name.strip(), number
 
 
-def _forcing(args, params):
-    w2 = resonance(params)
-    if args.forcing == "none":
-        return forcing_mod.none()
-    if args.forcing == "harmonic":
-        omega = w2 if args.omega is None else args.omega
-        return forcing_mod.harmonic(args.F0, omega, args.phi, sampled=args.sampled)
-    if args.forcing == "sweep":
-        start = 0.5 * w2 if args.omega_start is None else args.omega_start
-        end = 1.5 * w2 if args.omega_end is None else args.omega_end
-        return forcing_mod.sweep(args.F0, start, end, args.stop_time or args.periods * 2 * math.pi / w2)
-    if args.forcing == "csv":
-        if args.csv is None:
-            raise SystemExit("--forcing csv needs --csv FILE (columns time,F in s and N)")
-        return forcing_mod.from_csv(args.csv)
-    raise SystemExit(f"--forcing {args.forcing!r} is not allowed: none, harmonic, sweep or csv")
+def scene_from_args(args):
+    """The scene to run: args.scene (a shipped name or a file; default: 'default') with every
+    option given on the command line overriding its field (validated like the file)."""
+    base = scene_mod.load(args.scene or "default")
+    data = {"description": base.description, "parameters": {**base.parameters, **dict(args.param or [])},
+            "forcing": dict(base.forcing), "run": dict(base.run), "outputs": {"record": list(base.outputs)},
+            "log": dict(base.log)}
+    forcing = data["forcing"]
+    if args.forcing is not None and args.forcing != forcing.get("kind"):
+        forcing = data["forcing"] = {"kind": args.forcing}
+    if args.csv is not None:
+        forcing.clear()
+        forcing.update(kind="csv", file=str(Path(args.csv).resolve()))
+    for option, key in (("F0", "F0"), ("omega", "Omega"), ("phi", "phi"), ("omega_start", "Omega_start"),
+                        ("omega_end", "Omega_end")):
+        value = getattr(args, option)
+        if value is not None:
+            forcing[key] = value
+            forcing.pop(key + "_ratio", None)
+    if args.sampled:
+        forcing["sampled"] = True
+    run = data["run"]
+    if args.stop_time is not None or args.periods is not None:
+        run.pop("stop_time", None)
+        run.pop("periods", None)
+        run["stop_time" if args.stop_time is not None else "periods"] = (
+            args.stop_time if args.stop_time is not None else args.periods)
+    if args.output_interval is not None:
+        run["output_interval"] = args.output_interval
+    if args.no_log:
+        data["log"].update(mcap=False, rrd=False)
+    if args.no_rrd:
+        data["log"]["rrd"] = False
+    return scene_mod.parse(data, base.source, base.folder, base.name)
 
 
 def cmd_run(args):
-    params = dict(args.param or [])
-    signal = _forcing(args, params)
-    stop = args.stop_time or args.periods * 2 * math.pi / resonance(params)
+    sc = scene_from_args(args)
+    params, signal = sc.parameters, sc.make_forcing()
+    stop, h = sc.stop_time, sc.output_interval
+    log = sc.log
     logs = None
+    mcap, rrd = log.get("mcap", True), log.get("rrd", True)
     try:
-        if args.no_log:
-            result = run(params, signal, stop_time=stop, output_interval=args.output_interval, fmu=args.fmu)
+        if not (mcap or rrd or args.serve or args.connect):
+            result = run(params, signal, stop_time=stop, output_interval=h, fmu=args.fmu)
         else:
-            logged = run_logged(params, signal, stop_time=stop, output_interval=args.output_interval,
-                                out_dir=args.out, name=args.name, fmu=args.fmu, rrd=not args.no_rrd,
-                                serve=args.serve, connect=args.connect)
+            logged = run_logged(params, signal, stop_time=stop, output_interval=h, out_dir=args.out,
+                                name=args.name or sc.name, fmu=args.fmu, mcap=mcap, rrd=rrd, serve=args.serve,
+                                connect=args.connect, topics=log.get("mcap_topics"), views=log.get("rerun_views"),
+                                scene=sc.summary())
             result, logs = logged.result, logged
     except (FmuError, KeyboardInterrupt) as err:
         partial = getattr(err, "partial", None)
         if partial is not None and args.csv_out:
-            partial.write_csv(args.csv_out)
+            partial.write_csv(args.csv_out, sc.outputs)
             print(f"wrote {args.csv_out} up to t = {partial.data['time'][-1]:.6g} s, where the run failed",
                   file=sys.stderr)
-        if not args.no_log:
+        if mcap or rrd:
             print(f"the log in {args.out}/ reads back up to the failure", file=sys.stderr)
         raise
     d = result.data
-    print(f"FMU {result.fmu}")
-    print(f"forcing {signal.kind} {signal.args}; {len(d) - 1} steps of {args.output_interval} s to t = {d['time'][-1]:.6g} s")
+    print(f"scene {sc.name}: {sc.description}; FMU {result.fmu}")
+    print(f"forcing {signal.kind} {signal.args}; {len(d) - 1} steps of {h:g} s to t = {d['time'][-1]:.6g} s")
     print(f"impacts {int(d['impacts'][-1])}; max |theta| {abs(d['theta']).max():.6g} rad; "
           f"energy {d['energy'][-1]:.6g} J; dissipated {d['energy_dissipated'][-1]:.6g} J; "
           f"work in {d['work_in'][-1]:.6g} J; CPU {result.cpu_time:.3f} s")
     if args.csv_out:
-        result.write_csv(args.csv_out)
+        result.write_csv(args.csv_out, sc.outputs)
         print(f"wrote {args.csv_out}")
     if logs is not None:
         written = [str(p) for p in (logs.mcap, logs.rrd) if p is not None]
@@ -115,48 +128,59 @@ def _wait_for_viewers():
 
 
 def demo(out_dir="out"):
-    """Build the FMU, run free decay and resonance with fmpy (logged to MCAP and .rrd), print the
-    headline figures."""
+    """Build the FMU, run the free-decay and resonance scenes with fmpy (logged to MCAP and .rrd),
+    print the headline figures."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     t_build = time.perf_counter()
     fmu = find_fmu()
     print(f"FMU: {fmu} (ready in {time.perf_counter() - t_build:.1f} s)")
-    w2 = resonance(FREE_DECAY)
-    period = 2 * math.pi / w2
 
-    free = run_logged(FREE_DECAY, forcing_mod.none(), stop_time=10 * period, output_interval=period / 200,
-                      out_dir=out, name="free-decay", fmu=fmu).result
-    free.write_csv(out / "free-decay.csv")
+    free_scene = scene_mod.load("free-decay")
+    period = 2 * math.pi / free_scene.w2
+    free = _run_scene(free_scene, fmu, out)
     cpu = time.process_time()
-    with FmuStepper(fmu, FREE_DECAY) as stepper:
+    with FmuStepper(fmu, free_scene.parameters) as stepper:
         ratios, peaks = measures.damping_ratio(stepper, period)
     cpu_measure = time.process_time() - cpu
-    a0 = FREE_DECAY["theta_dot_0"] / w2
-    print(f"\nFree decay (mu=0.1, FR=5, d=0.1 m, e=0.2, A0 = {a0:.3g} rad, A0/d = {a0 * 1.0 / 0.1:.3g}), displacement form:")
+    p = free_scene.parameters
+    a0 = p["theta_dot_0"] / free_scene.w2
+    print(f"\nScene free-decay (mu={p['mu']:g}, FR={p['FR']:g}, d={p['d']:g} m, e={p['e']:g}, A0 = {a0:.3g} rad, "
+          f"A0/d = {a0 * p.get('L2', 1.0) / p['d']:.3g}), displacement form:")
     print(f"  average damping ratio, first 5 cycles: {ratios['printed']:.4f} (printed formula), "
           f"{ratios['exact']:.4f} (exact), {ratios['accumulated']:.4f} (accumulated from peak 1)")
-    print(f"  peaks theta_m [rad]: {', '.join(f'{p.theta:.4f}' for p in peaks)}")
-    print(f"  impacts in 10 periods: {int(free.data['impacts'][-1])}; CPU: run {free.cpu_time:.3f} s "
-          f"({len(free.data) - 1} steps), measure {cpu_measure:.3f} s")
+    print(f"  peaks theta_m [rad]: {', '.join(f'{pk.theta:.4f}' for pk in peaks)}")
+    print(f"  impacts in {free_scene.stop_time / period:g} periods: {int(free.data['impacts'][-1])}; "
+          f"CPU: run {free.cpu_time:.3f} s ({len(free.data) - 1} steps), measure {cpu_measure:.3f} s")
 
-    horizon = RESONANCE_PERIODS * period
-    drive = forcing_mod.harmonic(RESONANCE_F0, w2, math.pi / 2)  # cosine forcing, the paper's form
-    forced = run_logged(RESONANCE, drive, stop_time=horizon, output_interval=period / 200, out_dir=out,
-                        name="resonance", fmu=fmu).result
-    forced.write_csv(out / "resonance.csv")
+    forced_scene = scene_mod.load("resonance")
+    forced = _run_scene(forced_scene, fmu, out)
+    drive = forced_scene.make_forcing()
+    horizon = forced_scene.stop_time
+    values = {**forced_scene.parameters, **drive.start_values}
     cpu = time.process_time()
-    with FmuStepper(fmu, {**RESONANCE, **drive.start_values}) as damped, \
-            FmuStepper(fmu, {**RESONANCE, **drive.start_values, "mu": 0.0}, instance_name="baseline") as bare:
+    with FmuStepper(fmu, values) as damped, FmuStepper(fmu, {**values, "mu": 0.0}, instance_name="bare") as bare:
         ratio, with_d, without = measures.amplitude_ratio(damped, bare, horizon, period / 200)
     cpu_measure = time.process_time() - cpu
-    print(f"\nResonance (mu=0.02, FR=5, d=0.1 m, e=0.2, F0 = 0.01 M g cos(w2 t), horizon {RESONANCE_PERIODS} periods):")
+    q = forced_scene.parameters
+    print(f"\nScene resonance (mu={q['mu']:g}, FR={q['FR']:g}, d={q['d']:g} m, e={q['e']:g}, F0 = 0.01 M g "
+          f"cos(w2 t), horizon {horizon / period:g} periods):")
     print(f"  amplitude ratio max|theta| with / without damper: {ratio:.4f} "
           f"({abs(with_d.theta):.5f} / {abs(without.theta):.5f} rad)")
     print(f"  impacts: {int(forced.data['impacts'][-1])}; CPU: run {forced.cpu_time:.3f} s "
           f"({len(forced.data) - 1} steps), measure {cpu_measure:.3f} s")
-    print(f"\nWritten to {out}/: free-decay and resonance as .csv, .mcap (Foxglove) and .rrd (rerun {out}/resonance.rrd)")
+    print(f"\nWritten to {out}/: free-decay and resonance as .csv, .mcap (Foxglove) and .rrd "
+          f"(rerun {out}/resonance.rrd)")
     return 0
+
+
+def _run_scene(sc, fmu, out):
+    """A scene's logged run into out/, its table as CSV beside the logs."""
+    result = run_logged(sc.parameters, sc.make_forcing(), stop_time=sc.stop_time, output_interval=sc.output_interval,
+                        out_dir=out, name=sc.name, fmu=fmu, topics=sc.log.get("mcap_topics"),
+                        views=sc.log.get("rerun_views"), scene=sc.summary()).result
+    result.write_csv(out / f"{sc.name}.csv", sc.outputs)
+    return result
 
 
 def _bench(rest):
@@ -183,25 +207,27 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog="pidamper", description="Pendulum impact damper FMU harness")
     sub = parser.add_subparsers(dest="command", required=True)
 
-    p_run = sub.add_parser("run", help="run the FMU with fmpy against a forcing signal")
+    p_run = sub.add_parser("run", help="run a scene: the FMU with fmpy against a forcing signal, logged")
+    p_run.add_argument("scene", nargs="?", help="a shipped scene (" + ", ".join(scene_mod.shipped())
+                       + ") or a scene file (.toml); default: default. Every option below overrides its field")
     p_run.add_argument("--fmu", help="FMU file (default: build or reuse dist/PendulumImpactDamper.fmu)")
     p_run.add_argument("-p", "--param", action="append", type=_parse_param, metavar="NAME=VALUE",
                        help="FMU parameter or initial state, e.g. -p mu=0.02 -p theta_dot_0=1.5 (repeatable)")
-    p_run.add_argument("--forcing", default="none", choices=["none", "harmonic", "sweep", "csv"])
-    p_run.add_argument("--F0", type=float, default=RESONANCE_F0, help="force amplitude [N]")
+    p_run.add_argument("--forcing", choices=list(scene_mod.FORCING_ARGS))
+    p_run.add_argument("--F0", type=float, help="force amplitude [N]")
     p_run.add_argument("--omega", type=float, help="harmonic frequency [rad/s] (default: resonance w2)")
-    p_run.add_argument("--phi", type=float, default=0.0, help="harmonic phase [rad]")
+    p_run.add_argument("--phi", type=float, help="harmonic phase [rad]")
     p_run.add_argument("--sampled", action="store_true",
                        help="feed the harmonic through input F (held per step) instead of the built-in force")
     p_run.add_argument("--omega-start", type=float, help="sweep start [rad/s] (default 0.5 w2)")
     p_run.add_argument("--omega-end", type=float, help="sweep end [rad/s] (default 1.5 w2)")
-    p_run.add_argument("--csv", help="forcing file with columns time,F [s, N]")
-    p_run.add_argument("--stop-time", type=float, help="horizon [s] (default: --periods)")
-    p_run.add_argument("--periods", type=float, default=10.0, help="horizon in primary periods (default 10)")
-    p_run.add_argument("--output-interval", type=float, default=0.01, help="communication step [s]")
+    p_run.add_argument("--csv", help="forcing file with columns time,F [s, N] or time,a_g [s, m/s2]")
+    p_run.add_argument("--stop-time", type=float, help="horizon [s]")
+    p_run.add_argument("--periods", type=float, help="horizon in primary periods")
+    p_run.add_argument("--output-interval", type=float, help="communication step [s]")
     p_run.add_argument("--csv-out", help="write the result table to this CSV file")
     p_run.add_argument("--out", default="out", help="folder for the run's NAME.mcap and NAME.rrd (default: out)")
-    p_run.add_argument("--name", default="run", help="file stem of the logs (default: run)")
+    p_run.add_argument("--name", help="file stem of the logs (default: the scene's name)")
     p_run.add_argument("--no-log", action="store_true", help="write neither MCAP nor .rrd")
     p_run.add_argument("--no-rrd", action="store_true", help="write the MCAP only")
     p_run.add_argument("--serve", action="store_true", help="also serve the recording to Rerun viewers (gRPC)")

@@ -36,11 +36,12 @@ class Forcing:
         return self.signal(np.asarray(t, dtype=float))
 
     def input_array(self, times):
-        """fmpy input (structured array time, F or a_g) sampled on the communication grid, or None."""
+        """fmpy input (structured array time, F, a_g; the input not driven is 0) sampled on the
+        communication grid, or None."""
         if self.signal is None and self.table is None:
             return None
         times = np.asarray(times, dtype=float)
-        signal = np.zeros(len(times), dtype=[("time", np.float64), (self.target, np.float64)])
+        signal = np.zeros(len(times), dtype=[("time", np.float64), ("F", np.float64), ("a_g", np.float64)])
         signal["time"] = times
         signal[self.target] = self.value(times)
         return signal

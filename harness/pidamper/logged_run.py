@@ -11,7 +11,6 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-import fmpy
 import numpy as np
 
 from . import rerun_log
@@ -166,8 +165,11 @@ class _CtrlC:
 
 
 def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, out_dir="out", name="run",
-               fmu=None, mcap=True, rrd=True, serve=False, connect=None, block=1000, start_time=0.0):
-    """run() with the MCAP and the .rrd written into out_dir while it goes."""
+               fmu=None, mcap=True, rrd=True, serve=False, connect=None, block=1000, start_time=0.0, topics=None,
+               views=None, scene=None):
+    """run() with the MCAP and the .rrd written into out_dir while it goes; `topics` and `views`
+    choose the MCAP topics and the Rerun views (default: all); `scene` (name, source, description)
+    is kept in the run's info."""
     forcing = forcing or none()
     path = find_fmu(fmu)
     out = Path(out_dir)
@@ -176,6 +178,8 @@ def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.
     info = run_info(path, start_values, forcing, start_time, stop_time, output_interval, None)
     info["geometry"] = geometry(info["parameters"])
     info["log_block"] = block  # the replay logs in the same blocks
+    info["scene"] = dict(scene or {})
+    info["log"] = {"mcap_topics": list(topics) if topics else None, "rerun_views": list(views) if views else None}
     mcap_path = out / f"{name}.mcap" if mcap else None
     rrd_path = out / f"{name}.rrd" if rrd else None
     cpu = time.process_time()

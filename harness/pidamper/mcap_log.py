@@ -24,6 +24,7 @@ from mcap.records import Channel, Message, Metadata
 from .records import IMPACT_DTYPE, IMPACT_FIELDS, STATE_DTYPE, STATE_FIELDS, to_ns
 
 METADATA_NAME = "pidamper.run"
+TOPICS = ("/damper/state", "/damper/impacts", "/run/info", "/run/notes", "/log", "/tf", "/scene")
 CHUNK_SIZE = 256 * 1024  # bytes before compression: a killed run loses at most one chunk
 
 _INT = {"contact", "impacts", "side", "index"}
@@ -70,6 +71,7 @@ class McapLog:
     def __init__(self, path, info):
         self.info = info
         self.geometry = info["geometry"]
+        self.topics = set((info.get("log") or {}).get("mcap_topics") or TOPICS)
         self.context = context = foxglove.Context()  # channels close when their context is dropped
         options = MCAPWriteOptions(compression=MCAPCompression.Zstd, chunk_size=CHUNK_SIZE)
         self.writer = foxglove.open_mcap(str(path), allow_overwrite=True, context=context, writer_options=options)
@@ -82,17 +84,22 @@ class McapLog:
         t0 = int(to_ns(info["start_time"]))
         self.static = (foxglove.Channel("/run/info", schema=INFO_SCHEMA, context=context),
                        SceneUpdateChannel("/scene", context=context))
-        self.static[0].log(json.dumps(info), log_time=t0)
-        self.static[1].log(self._scene(t0), log_time=t0)
+        if "/run/info" in self.topics:
+            self.static[0].log(json.dumps(info), log_time=t0)
+        if "/scene" in self.topics:
+            self.static[1].log(self._scene(t0), log_time=t0)
 
     def write(self, states, impacts):
         """Append a block of states (STATE_DTYPE) and impacts (IMPACT_DTYPE)."""
         times = to_ns(states["time"]).tolist()
-        for ns, payload in zip(times, _json_rows(states, STATE_FIELDS)):
-            self.state.log(payload, log_time=ns)
+        topics = self.topics
+        if "/damper/state" in topics:
+            for ns, payload in zip(times, _json_rows(states, STATE_FIELDS)):
+                self.state.log(payload, log_time=ns)
         L1 = self.geometry["L1"]
         L2 = self.geometry["L2"]
-        for ns, theta, alpha in zip(times, states["theta"].tolist(), states["alpha"].tolist()):
+        for ns, theta, alpha in (zip(times, states["theta"].tolist(), states["alpha"].tolist())
+                                 if "/tf" in topics else ()):
             stamp = _stamp(ns)
             self.tf.log(FrameTransforms(transforms=[
                 FrameTransform(timestamp=stamp, parent_frame_id="world", child_frame_id="primary",
@@ -102,14 +109,19 @@ class McapLog:
             ]), log_time=ns)
         impact_ns = to_ns(impacts["t"]).tolist()
         for ns, payload, row in zip(impact_ns, _json_rows(impacts, IMPACT_FIELDS), impacts.tolist()):
-            self.impacts.log(payload, log_time=ns)
-            self.log.log(Log(timestamp=_stamp(ns), level=LogLevel.Info, message=impact_text(row), name="pidamper"),
-                         log_time=ns)
+            if "/damper/impacts" in topics:
+                self.impacts.log(payload, log_time=ns)
+            if "/log" in topics:
+                self.log.log(Log(timestamp=_stamp(ns), level=LogLevel.Info, message=impact_text(row),
+                                 name="pidamper"), log_time=ns)
 
     def note(self, t, level, text):
         ns = int(to_ns(t))
-        self.notes.log(json.dumps({"time": float(t), "level": level, "text": text}), log_time=ns)
-        self.log.log(Log(timestamp=_stamp(ns), level=_LEVELS[level], message=text, name="pidamper"), log_time=ns)
+        if "/run/notes" in self.topics:
+            self.notes.log(json.dumps({"time": float(t), "level": level, "text": text}), log_time=ns)
+        if "/log" in self.topics:
+            self.log.log(Log(timestamp=_stamp(ns), level=_LEVELS[level], message=text, name="pidamper"),
+                         log_time=ns)
 
     def flush(self):
         self.writer.flush()

@@ -71,21 +71,21 @@ def stepper_time(saved):
 
 def extrema(stepper, t_end, dt):
     """Yield every extremum of theta on (stepper.t, t_end], in time order."""
-    theta, theta_dot = stepper.read()
+    theta_dot = stepper.read()[1]
     left = stepper.save()
     n = max(1, math.ceil((t_end - stepper.t) / dt - 1e-9))
     t0 = stepper.t
     for k in range(1, n + 1):
         t_next = t_end if k == n else t0 + k * (t_end - t0) / n
         stepper.advance(t_next)
-        new_theta, new_dot = stepper.read()
+        new_dot = stepper.read()[1]
         if theta_dot >= 0.0 > new_dot:
             yield _refine(stepper, left, t_next, +1)
         elif theta_dot <= 0.0 < new_dot:
             yield _refine(stepper, left, t_next, -1)
         stepper.discard(left)
         left = stepper.save()
-        theta, theta_dot = new_theta, new_dot
+        theta_dot = new_dot
     stepper.discard(left)
 
 

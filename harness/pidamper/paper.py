@@ -421,11 +421,11 @@ def write_readme(out, figures, t0, workers):
               f"{_verdict(abs(zp['printed'] - 0.087) < 0.005, '0.087')} |",
               f"| accumulated averaging lifts it to about 0.29 | {zp['accumulated']:.4f} | "
               f"{_verdict(abs(zp['accumulated'] - 0.29) < 0.015, '0.29')} |",
-              f"| the bodies overlap 27 to 44 % of the time, the particle swings 4 to 5 rad | overlap "
+              "| the bodies overlap 27 to 44 % of the time, the particle swings 4 to 5 rad | overlap "
               f"{100 * stats['overlap_share']:.0f} % of the first 10 periods, max abs(alpha) {stats['alpha_max']:.1f} rad | "
               + _verdict(0.27 <= stats['overlap_share'] <= 0.44, "overlap") + "; "
               + _verdict(4.0 <= stats['alpha_max'] <= 5.0, "swing of 4 to 5 rad") + " |",
-              f"| forced ratio about 5.9/N (cosine, F0 = 0.01 M g); below 0.3 needs N >= 20; sine gives 0.42 at N = 20 | "
+              "| forced ratio about 5.9/N (cosine, F0 = 0.01 M g); below 0.3 needs N >= 20; sine gives 0.42 at N = 20 | "
               + ", ".join(f"{k}: {v:.3f}" for k, v in hor.items()) + " | "
               + "; ".join(_verdict(abs(hor[f"cos N={N}"] - 5.9 / N) < 0.1 * 5.9 / N, f"5.9/N at N = {N}")
                           for N in (10, 20, 40))

@@ -32,26 +32,33 @@ SERIES = (  # entity, state field, colour
 MARKERS = "plots/angles/impacts"
 
 
-def blueprint(geometry):
+VIEWS = ("angles", "velocities", "energy", "force", "pendulum", "events")
+
+
+def wanted(info):
+    """The Rerun views a run logs (its scene's log.rerun_views; default all)."""
+    return set((info.get("log") or {}).get("rerun_views") or VIEWS)
+
+
+def series(views):
+    """The SERIES entries the views show (plots/<view>/...; the impact count goes with events)."""
+    return [entry for entry in SERIES if entry[0].split("/")[1].replace("impacts", "events") in views]
+
+
+def blueprint(geometry, views=VIEWS):
     L2 = geometry["L2"]
     eye = rrb.EyeControls3D(position=[0.3 * L2, -1.6 * L2, 0.45 * L2], look_target=[0.0, 0.0, 0.35 * L2],
                             eye_up=[0.0, 0.0, 1.0])
-    return rrb.Blueprint(
-        rrb.Horizontal(
-            rrb.Vertical(
-                rrb.TimeSeriesView(origin="plots/angles", name="angles [rad] (dots: impacts)"),
-                rrb.TimeSeriesView(origin="plots/velocities", name="angular velocities [rad/s]"),
-                rrb.TimeSeriesView(origin="plots/energy", name="energy [J]"),
-            ),
-            rrb.Vertical(
-                rrb.Spatial3DView(origin="pendulum", name="pendulums and stops (front view)", eye_controls=eye),
-                rrb.TextLogView(origin="events", name="events"),
-                row_shares=[3, 2],
-            ),
-            column_shares=[3, 2],
-        ),
-        collapse_panels=True,
-    )
+    left = [view for name, view in (
+        ("angles", rrb.TimeSeriesView(origin="plots/angles", name="angles [rad] (dots: impacts)")),
+        ("velocities", rrb.TimeSeriesView(origin="plots/velocities", name="angular velocities [rad/s]")),
+        ("energy", rrb.TimeSeriesView(origin="plots/energy", name="energy [J]")),
+        ("force", rrb.TimeSeriesView(origin="plots/force", name="inputs: F [N], a_g [m/s2]"))) if name in views]
+    right = [view for name, view in (
+        ("pendulum", rrb.Spatial3DView(origin="pendulum", name="pendulums and stops (front view)", eye_controls=eye)),
+        ("events", rrb.TextLogView(origin="events", name="events"))) if name in views]
+    columns = [rrb.Vertical(*part) for part in (left, right) if part]
+    return rrb.Blueprint(rrb.Horizontal(*columns), collapse_panels=True)
 
 
 def open_recording(info, path=None, serve=False, connect=None):
@@ -67,7 +74,7 @@ def open_recording(info, path=None, serve=False, connect=None):
         sinks.append(rr.GrpcServerSink())
     if not sinks:
         raise ValueError("a Rerun recording needs a file, --serve or --connect")
-    rec.set_sinks(*sinks, default_blueprint=blueprint(info["geometry"]))
+    rec.set_sinks(*sinks, default_blueprint=blueprint(info["geometry"], wanted(info)))
     return rec
 
 
@@ -79,10 +86,14 @@ def log_start(rec, info):
         wall_clock_start=info["wall_clock_start"]))
     rec.send_property("params", rr.AnyValues(**info["parameters"]))
     rec.send_recording_start_time_nanos(int(info["wall_clock_start_ns"]))
-    for entity, field, colour in SERIES:
+    views = wanted(info)
+    for entity, field, colour in series(views):
         rec.log(entity, rr.SeriesLines(colors=[colour], names=[field]), static=True)
-    rec.log(MARKERS, rr.SeriesPoints(colors=[(200, 60, 50)], names=["impact"], markers=["circle"],
-                                     marker_sizes=[3.0]), static=True)
+    if "angles" in views:
+        rec.log(MARKERS, rr.SeriesPoints(colors=[(200, 60, 50)], names=["impact"], markers=["circle"],
+                                         marker_sizes=[3.0]), static=True)
+    if "pendulum" not in views:
+        return
     g = info["geometry"]
     L1, L2, c = g["L1"], g["L2"], g["clearance"]
     rec.log("pendulum/primary/rod", rr.LineStrips3D([[[0, 0, 0], [0, 0, -L2]]], colors=[(150, 150, 150)]), static=True)
@@ -95,13 +106,15 @@ def log_start(rec, info):
 
 def log_block(rec, info, states, impacts):
     """Log a block of states and impacts in columns (one call per entity, not per sample)."""
+    views = wanted(info)
     if len(states):
         times = [rr.TimeColumn(TIMELINE, duration=to_ns(states["time"]).astype("timedelta64[ns]"))]
-        for entity, field, _ in SERIES:
+        for entity, field, _ in series(views):
             rec.send_columns(entity, indexes=times, columns=rr.Scalars.columns(scalars=states[field].astype(np.float64)))
         g = info["geometry"]
         n = len(states)
-        for entity, field, height in (("pendulum/primary", "theta", g["L2"]), ("pendulum/particle", "alpha", g["L1"])):
+        for entity, field, height in ((("pendulum/primary", "theta", g["L2"]), ("pendulum/particle", "alpha", g["L1"]))
+                                      if "pendulum" in views else ()):
             half = 0.5 * states[field]
             quaternion = np.zeros((n, 4))  # xyzw: rotation by the angle about -y (bob swings to +x)
             quaternion[:, 1] = -np.sin(half)
@@ -110,9 +123,11 @@ def log_block(rec, info, states, impacts):
                 translation=np.tile([0.0, 0.0, height], (n, 1)), quaternion=quaternion))
     if len(impacts):
         times = [rr.TimeColumn(TIMELINE, duration=to_ns(impacts["t"]).astype("timedelta64[ns]"))]
-        rec.send_columns(MARKERS, indexes=times, columns=rr.Scalars.columns(scalars=impacts["theta"]))
-        rec.send_columns("events", indexes=times, columns=rr.TextLog.columns(
-            text=[impact_text(row) for row in impacts.tolist()], level=["INFO"] * len(impacts)))
+        if "angles" in views:
+            rec.send_columns(MARKERS, indexes=times, columns=rr.Scalars.columns(scalars=impacts["theta"]))
+        if "events" in views:
+            rec.send_columns("events", indexes=times, columns=rr.TextLog.columns(
+                text=[impact_text(row) for row in impacts.tolist()], level=["INFO"] * len(impacts)))
 
 
 def log_note(rec, t, level, text):

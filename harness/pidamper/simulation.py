@@ -32,8 +32,9 @@ class RunResult:
     cpu_time: float  # s, process CPU time of the fmpy run
     meta: dict = field(default_factory=dict)
 
-    def write_csv(self, path):
-        names = self.data.dtype.names
+    def write_csv(self, path, outputs=None):
+        """The table as CSV: time, the inputs and `outputs` (default: every column)."""
+        names = self.data.dtype.names if outputs is None else ("time", "F", "a_g") + tuple(outputs)
         np.savetxt(path, np.column_stack([self.data[n].astype(float) for n in names]), delimiter=",",
                    header=",".join(names), comments="", fmt="%.17g")
 

@@ -32,7 +32,7 @@ def extrema(traj, t_end, period, per_period=64):
 
 def cycle_peaks(ext, n_cycles=6):
     """One positive peak per cycle (cycles close at troughs), as pidamper.measures does."""
-    peaks, current, started = [], None, True
+    peaks, current = [], None
     for t, x, kind in ext:
         if kind > 0 and x > 0:
             if current is None or x > current:

@@ -23,7 +23,6 @@ import fmpy
 import numpy as np
 
 from ..fmu import find_fmu
-from ..measures import amplitude_ratio as _unused  # noqa: F401  (documents the shared definition)
 from ..measures import max_abs_theta
 from ..stepper import CoreStepper
 from . import metrics

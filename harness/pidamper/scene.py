@@ -1,0 +1,213 @@
+"""Scenes: small TOML files that say everything a run needs.
+
+    pidamper run free-decay              # a shipped scene, by name
+    pidamper run scenes/resonance.toml   # a scene file
+    pidamper run resonance --periods 40  # any option of `pidamper run` overrides its field
+
+Fields (every one optional but [forcing].kind):
+
+    description = "..."
+    [parameters]  FMU parameters and initial state, e.g. mu = 0.02, theta_dot_0 = 0.0
+    [forcing]     kind = "none" | "harmonic" | "sweep" | "csv" | "kanai-tajimi", and its arguments:
+                  harmonic: F0 [N], Omega [rad/s] or Omega_ratio (of w2), phi [rad], sampled (bool)
+                  sweep: F0, Omega_start / Omega_end [rad/s] or Omega_start_ratio / Omega_end_ratio
+                  csv: file (time,F or time,a_g; relative to the scene file)
+                  kanai-tajimi: pga [m/s2], omega_g [rad/s], zeta_g, seed, dt [s], rise [s], strong [s]
+    [run]         stop_time [s] or periods (of the primary), output_interval [s], fidelity ("linear")
+    [outputs]     record = [...]: the FMU outputs kept in the result table and CSV
+    [log]         mcap, rrd (bool); mcap_topics = [...]; rerun_views = [...]
+
+A scene that does not follow this is refused with the field, its value and what is allowed.
+"""
+import importlib.resources
+import math
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from . import forcing as forcing_mod
+from .mcap_log import TOPICS as MCAP_TOPICS
+from .rerun_log import VIEWS as RERUN_VIEWS
+from .simulation import OUTPUTS
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+PARAMETERS = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi",
+              "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0")
+FIDELITY = ("linear",)  # the levels this build provides
+SECTIONS = {"description": None, "name": None, "parameters": None, "forcing": None, "run": None, "outputs": None,
+            "log": None}
+FORCING_ARGS = {
+    "none": (),
+    "harmonic": ("F0", "Omega", "Omega_ratio", "phi", "sampled"),
+    "sweep": ("F0", "Omega_start", "Omega_end", "Omega_start_ratio", "Omega_end_ratio"),
+    "csv": ("file",),
+    "kanai-tajimi": ("pga", "omega_g", "zeta_g", "seed", "dt", "rise", "strong"),
+}
+RUN_KEYS = ("stop_time", "periods", "output_interval", "fidelity")
+LOG_KEYS = ("mcap", "rrd", "mcap_topics", "rerun_views")
+
+
+class SceneError(ValueError):
+    """A scene field with a value that is not allowed."""
+
+    def __init__(self, source, name, value, allowed):
+        super().__init__(f"{source}: {name} = {value!r} is not allowed: {allowed}")
+
+
+@dataclass
+class Scene:
+    name: str
+    source: str
+    description: str = ""
+    parameters: dict = field(default_factory=dict)
+    forcing: dict = field(default_factory=lambda: {"kind": "none"})
+    run: dict = field(default_factory=dict)
+    outputs: tuple = OUTPUTS
+    log: dict = field(default_factory=dict)
+    folder: Path = Path(".")
+
+    # ---- what a run needs ----------------------------------------------------------------
+
+    def summary(self):
+        """What a run's log keeps of its scene."""
+        return {"name": self.name, "source": self.source, "description": self.description}
+
+    @property
+    def w2(self):
+        return math.sqrt(self.parameters.get("g", 9.81) / self.parameters.get("L2", 1.0))
+
+    @property
+    def stop_time(self):
+        if "stop_time" in self.run:
+            return float(self.run["stop_time"])
+        return float(self.run.get("periods", 10)) * 2 * math.pi / self.w2
+
+    @property
+    def output_interval(self):
+        return float(self.run.get("output_interval", 0.01))
+
+    def make_forcing(self):
+        f = self.forcing
+        kind = f["kind"]
+        w2 = self.w2
+        if kind == "none":
+            return forcing_mod.none()
+        if kind == "harmonic":
+            omega = f.get("Omega", f.get("Omega_ratio", 1.0) * w2)
+            return forcing_mod.harmonic(f.get("F0", 0.01 * 9.81), omega, f.get("phi", 0.0), f.get("sampled", False))
+        if kind == "sweep":
+            start = f.get("Omega_start", f.get("Omega_start_ratio", 0.5) * w2)
+            end = f.get("Omega_end", f.get("Omega_end_ratio", 1.5) * w2)
+            return forcing_mod.sweep(f.get("F0", 0.01 * 9.81), start, end, self.stop_time)
+        if kind == "csv":
+            return forcing_mod.from_csv(self.folder / f["file"])
+        args = {k: f[k] for k in ("pga", "omega_g", "zeta_g", "seed", "dt", "rise", "strong") if k in f}
+        return forcing_mod.kanai_tajimi(self.stop_time, **args)
+
+
+def shipped():
+    """Names of the scenes installed with the package."""
+    folder = importlib.resources.files("pidamper.scenes")
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
+def load(name_or_path):
+    """A scene from a file path, or a shipped scene by name."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists():
+        if not path.is_file():
+            raise FileNotFoundError(f"scene file {path} does not exist")
+        text, source, folder = path.read_text(), str(path), path.parent
+    else:
+        resource = importlib.resources.files("pidamper.scenes") / f"{name_or_path}.toml"
+        if not resource.is_file():
+            raise SceneError("pidamper run", "scene", name_or_path,
+                             f"a scene file, or one of the shipped scenes: {', '.join(shipped())}")
+        text, source, folder = resource.read_text(), f"scene {name_or_path}", Path(".")
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise SceneError(source, "file", "TOML", f"it must be valid TOML ({err})") from None
+    return parse(data, source, folder, Path(source).stem if source.endswith(".toml") else name_or_path)
+
+
+def parse(data, source="scene", folder=Path("."), name="scene"):
+    """Validate a scene's TOML data; every refusal names the field, its value and what is allowed."""
+    for key in data:
+        if key not in SECTIONS:
+            raise SceneError(source, key, data[key], f"the top-level fields are {', '.join(SECTIONS)}")
+    params = _table(data, "parameters", source)
+    for key, value in params.items():
+        if key not in PARAMETERS:
+            raise SceneError(source, f"parameters.{key}", value, f"FMU parameters are {', '.join(PARAMETERS)}")
+        _number(source, f"parameters.{key}", value)
+    forcing = _table(data, "forcing", source) or {"kind": "none"}
+    kind = forcing.get("kind")
+    if kind not in FORCING_ARGS:
+        raise SceneError(source, "forcing.kind", kind, f"one of {', '.join(FORCING_ARGS)}")
+    for key, value in forcing.items():
+        if key == "kind":
+            continue
+        if key not in FORCING_ARGS[kind]:
+            raise SceneError(source, f"forcing.{key}", value,
+                             f"forcing of kind {kind!r} takes {', '.join(FORCING_ARGS[kind]) or 'no arguments'}")
+        if key == "file":
+            if not isinstance(value, str):
+                raise SceneError(source, "forcing.file", value, "a file name (string)")
+        elif key == "sampled":
+            if not isinstance(value, bool):
+                raise SceneError(source, "forcing.sampled", value, "true or false")
+        else:
+            _number(source, f"forcing.{key}", value)
+    run = _table(data, "run", source)
+    for key, value in run.items():
+        if key not in RUN_KEYS:
+            raise SceneError(source, f"run.{key}", value, f"the run fields are {', '.join(RUN_KEYS)}")
+        if key == "fidelity":
+            if value not in FIDELITY:
+                raise SceneError(source, "run.fidelity", value,
+                                 f"this build provides {', '.join(FIDELITY)} (damped, coupled and nonlinear are not "
+                                 "implemented yet)")
+        elif _number(source, f"run.{key}", value) <= 0:
+            raise SceneError(source, f"run.{key}", value, "it must be > 0")
+    if "stop_time" in run and "periods" in run:
+        raise SceneError(source, "run", "stop_time and periods", "give one of them")
+    outputs = _table(data, "outputs", source)
+    record = tuple(outputs.get("record", OUTPUTS))
+    for key in outputs:
+        if key != "record":
+            raise SceneError(source, f"outputs.{key}", outputs[key], "the outputs field is record")
+    for name_ in record:
+        if name_ not in OUTPUTS:
+            raise SceneError(source, "outputs.record", name_, f"FMU outputs are {', '.join(OUTPUTS)}")
+    log = _table(data, "log", source)
+    for key, value in log.items():
+        if key not in LOG_KEYS:
+            raise SceneError(source, f"log.{key}", value, f"the log fields are {', '.join(LOG_KEYS)}")
+        if key in ("mcap", "rrd") and not isinstance(value, bool):
+            raise SceneError(source, f"log.{key}", value, "true or false")
+        allowed = MCAP_TOPICS if key == "mcap_topics" else RERUN_VIEWS if key == "rerun_views" else None
+        if allowed:
+            for item in value:
+                if item not in allowed:
+                    raise SceneError(source, f"log.{key}", item, f"one of {', '.join(allowed)}")
+    description = data.get("description", "")
+    return Scene(name=data.get("name", name), source=source, description=description, parameters=params,
+                 forcing=forcing, run=run, outputs=record, log=log, folder=folder)
+
+
+def _table(data, key, source):
+    value = data.get(key, {})
+    if not isinstance(value, dict):
+        raise SceneError(source, key, value, "a table ([" + key + "])")
+    return dict(value)
+
+
+def _number(source, name, value):
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise SceneError(source, name, value, "a finite number")
+    return float(value)

@@ -1,0 +1,1 @@
+"""The shipped scenes (TOML), installed with the package as pidamper.scenes."""

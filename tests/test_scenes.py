@@ -1,0 +1,200 @@
+"""Scenes: every shipped scene runs end to end through `pidamper run` and its logs read back;
+invalid scenes are refused with the field, the value and what is allowed; options override fields;
+a scene logs only the MCAP topics and Rerun views it asks for."""
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+from mcap.reader import make_reader
+from rerun.chunk import RrdReader
+
+from pidamper import scene
+from pidamper.cli import main
+from pidamper.mcap_log import read_run
+from pidamper.scene import SceneError
+
+os.environ.setdefault("RERUN_ANALYTICS", "0")
+REQUIRED = ("free-decay", "resonance", "sweep", "ground-motion", "hard-chatter")
+
+
+def rrd_entities(path):
+    """{entity: number of sim_time samples} of a .rrd file."""
+    counts = {}
+    for chunk in RrdReader(str(path)).stream():
+        batch = chunk.to_record_batch()
+        entity = batch.schema.metadata[b"rerun:entity_path"].decode().lstrip("/")
+        if "sim_time" in batch.column_names:
+            counts[entity] = counts.get(entity, 0) + batch.num_rows
+        else:
+            counts.setdefault(entity, 0)
+    return counts
+
+
+def mcap_topics(path):
+    with open(path, "rb") as handle:
+        return {channel.topic for channel in make_reader(handle).get_summary().channels.values()}
+
+
+def write(tmp_path, text, name="s.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_the_issue_s_scenes_are_shipped_and_installed():
+    assert set(REQUIRED) <= set(scene.shipped())
+    for name in REQUIRED:
+        assert scene.load(name).description
+
+
+@pytest.fixture(scope="module")
+def ran(fmu_path, tmp_path_factory):
+    """Each shipped scene run by name through the command line, as a user would."""
+    out = tmp_path_factory.mktemp("scenes")
+    for name in scene.shipped():
+        assert main(["run", name, "--fmu", str(fmu_path), "--out", str(out),
+                     "--csv-out", str(out / f"{name}.csv")]) == 0
+    return out
+
+
+@pytest.mark.parametrize("name", REQUIRED + ("default",))
+def test_each_shipped_scene_runs_end_to_end_and_its_logs_read_back(ran, name):
+    sc = scene.load(name)
+    info, states, impacts, notes = read_run(ran / f"{name}.mcap")
+    assert info["scene"]["name"] == name and info["scene"]["description"] == sc.description
+    t = np.array([s["time"] for s in states])
+    h = sc.output_interval
+    assert t[0] == 0.0 and t[-1] == pytest.approx(sc.stop_time, abs=1e-12)
+    assert np.all(np.diff(t) <= h * (1 + 1e-9)) and len(t) == math.ceil(sc.stop_time / h - 1e-9) + 1
+    last = states[-1]
+    # the energy balance closes at the end of every scene: E0 + W_in - E = dissipated
+    balance = states[0]["energy"] + last["work_in"] - last["energy"]
+    assert balance == pytest.approx(last["energy_dissipated"], abs=1e-9 * max(1.0, states[0]["energy"], last["work_in"]))
+    assert last["impacts"] > 0 and len(impacts) == last["impacts"]  # every impact is logged individually
+    assert notes[-1][2].startswith("run complete")
+    series = rrd_entities(ran / f"{name}.rrd")
+    assert series["plots/angles/theta"] == len(states)
+    csv = np.genfromtxt(ran / f"{name}.csv", delimiter=",", names=True)
+    assert csv.dtype.names == ("time", "F", "a_g") + tuple(sc.outputs)
+    assert np.array_equal(csv["theta"], [s["theta"] for s in states])
+
+
+def test_scenes_exercise_what_they_are_named_for(ran):
+    def table(name):
+        return np.genfromtxt(ran / f"{name}.csv", delimiter=",", names=True)
+
+    chatter = table("hard-chatter")
+    stuck = chatter["contact"] != 0
+    longest = max(len(run) for run in "".join("1" if s else "0" for s in stuck).split("0"))
+    assert stuck.mean() > 0.5 and longest * 0.01 > 0.4  # long sticking phases (half a period is 1.0 s)
+    ground = table("ground-motion")
+    assert np.all(ground["F"] == 0) and np.abs(ground["a_g"]).max() == pytest.approx(2.0, rel=1e-6)
+    sweep = table("sweep")
+    assert sweep["F"].std() > 0.05 and np.all(sweep["a_g"] == 0)
+    info = read_run(ran / "resonance.mcap")[0]  # the FMU's built-in drive F0 sin(Omega t + phi), at w2
+    p = info["parameters"]
+    assert (p["F0"], p["Omega"], p["phi"]) == (0.0981, math.sqrt(9.81), math.pi / 2)
+    assert table("resonance")["work_in"][-1] > 0.01
+
+
+def test_free_decay_logs_only_the_views_it_asks_for(ran):
+    series = rrd_entities(ran / "free-decay.rrd")
+    assert not any(e.startswith("plots/force") for e in series)  # its scene leaves the input plot out
+    assert "plots/force/F" in rrd_entities(ran / "resonance.rrd")
+
+
+def test_a_scene_file_with_topic_and_view_subsets(fmu_path, tmp_path):
+    path = write(tmp_path, """
+        description = "subset"
+        [parameters]
+        theta_dot_0 = 0.8
+        [run]
+        stop_time = 2.0
+        output_interval = 0.02
+        [outputs]
+        record = ["theta", "impacts"]
+        [log]
+        mcap_topics = ["/damper/state", "/run/notes"]
+        rerun_views = ["angles"]
+    """, "subset.toml")
+    assert main(["run", str(path), "--fmu", str(fmu_path), "--out", str(tmp_path), "--csv-out",
+                 str(tmp_path / "subset.csv")]) == 0
+    assert mcap_topics(tmp_path / "subset.mcap") == {"/damper/state", "/run/notes"}
+    info, states, impacts, notes = read_run(tmp_path / "subset.mcap")
+    assert len(states) == 101 and len(impacts) == 0 and states[-1]["impacts"] > 0
+    series = rrd_entities(tmp_path / "subset.rrd")
+    assert {"plots/angles/theta", "plots/angles/alpha", "plots/angles/impacts"} <= set(series)
+    assert not any(e.startswith(("plots/velocities", "plots/energy", "plots/force", "pendulum")) for e in series)
+    header = (tmp_path / "subset.csv").read_text().splitlines()[0]
+    assert header == "time,F,a_g,theta,impacts"
+
+
+def test_options_override_scene_fields(fmu_path, tmp_path, capsys):
+    assert main(["run", "resonance", "--fmu", str(fmu_path), "--no-log", "--periods", "1.5", "--output-interval",
+                 "0.05", "--omega", "2.5", "-p", "mu=0.05"]) == 0
+    text = capsys.readouterr().out
+    period = 2 * math.pi / math.sqrt(9.81)
+    assert f"to t = {1.5 * period:.6g} s" in text and "steps of 0.05 s" in text
+    assert "'Omega': 2.5" in text
+
+
+def test_a_recorded_accelerogram_runs_from_a_scene_file(fmu_path, tmp_path):
+    """The documented way to run a recorded ground motion: a CSV time,a_g next to the scene."""
+    t = np.arange(0.0, 3.0001, 0.01)
+    np.savetxt(tmp_path / "record.csv", np.column_stack([t, 1.5 * np.sin(7.0 * t)]), delimiter=",",
+               header="time,a_g", comments="")
+    path = write(tmp_path, '[forcing]\nkind = "csv"\nfile = "record.csv"\n[run]\nstop_time = 3.0\n'
+                           'output_interval = 0.01\n[log]\nmcap = false\nrrd = false\n', "quake.toml")
+    assert main(["run", str(path), "--fmu", str(fmu_path), "--csv-out", str(tmp_path / "q.csv")]) == 0
+    q = np.genfromtxt(tmp_path / "q.csv", delimiter=",", names=True)
+    assert np.allclose(q["a_g"][1:], 1.5 * np.sin(7.0 * q["time"][:-1]), atol=1e-12) and np.all(q["F"] == 0)
+    assert not (tmp_path / "quake.mcap").exists()
+
+
+@pytest.mark.parametrize("text, field, value, allowed", [
+    ("[parameters]\nmass = 2.0\n", "parameters.mass", "2.0", "FMU parameters are g, M, mu"),
+    ("[parameters]\nmu = \"big\"\n", "parameters.mu", "'big'", "a finite number"),
+    ("[forcing]\nkind = \"square\"\n", "forcing.kind", "'square'", "one of none, harmonic, sweep"),
+    ("[forcing]\nkind = \"harmonic\"\npga = 1.0\n", "forcing.pga", "1.0", "takes F0, Omega"),
+    ("[run]\nstop_time = -1.0\n", "run.stop_time", "-1.0", "it must be > 0"),
+    ("[run]\nstop_time = 1.0\nperiods = 2\n", "run", "'stop_time and periods'", "give one of them"),
+    ("[run]\nfidelity = \"quantum\"\n", "run.fidelity", "'quantum'", "this build provides linear"),
+    ("[outputs]\nrecord = [\"theta\", \"speed\"]\n", "outputs.record", "'speed'", "FMU outputs are theta"),
+    ("[log]\nmcap_topics = [\"/nope\"]\n", "log.mcap_topics", "'/nope'", "one of /damper/state"),
+    ("[log]\nrerun_views = [\"spectrum\"]\n", "log.rerun_views", "'spectrum'", "one of angles"),
+    ("[log]\nrrd = \"yes\"\n", "log.rrd", "'yes'", "true or false"),
+    ("colour = \"red\"\n", "colour", "'red'", "the top-level fields are"),
+    ("[run\n", "file", "'TOML'", "it must be valid TOML"),
+])
+def test_invalid_scenes_are_refused_with_field_value_and_what_is_allowed(tmp_path, text, field, value, allowed):
+    path = write(tmp_path, text)
+    with pytest.raises(SceneError) as err:
+        scene.load(path)
+    message = str(err.value)
+    assert f"{field} = {value} is not allowed" in message and allowed in message and str(path) in message
+
+
+def test_unknown_scene_names_list_the_shipped_ones(tmp_path, capsys):
+    with pytest.raises(SceneError, match="one of the shipped scenes: default, free-decay"):
+        scene.load("no-such-scene")
+    assert main(["run", "no-such-scene", "--no-log"]) == 2
+    assert "no-such-scene" in capsys.readouterr().err
+    assert not list(Path(tmp_path).iterdir())
+
+
+def test_a_bad_override_is_refused_like_a_bad_field(capsys):
+    assert main(["run", "free-decay", "--no-log", "--stop-time", "-3"]) == 2
+    assert "run.stop_time = -3.0 is not allowed: it must be > 0" in capsys.readouterr().err
+
+
+def test_the_readme_s_scene_examples_are_valid_scenes():
+    readme = (Path(__file__).parents[1] / "README.md").read_text()
+    blocks = readme.split("```toml\n")[1:]
+    assert len(blocks) >= 2
+    for block in blocks:
+        sc = scene.parse(scene.tomllib.loads(block.split("```")[0]), "README")
+        assert sc.stop_time > 0
+        if sc.forcing["kind"] != "csv":  # the csv example names a user's file
+            assert sc.make_forcing().kind == sc.forcing["kind"]
