@@ -156,7 +156,8 @@ BAD_PARAMETERS = [("g", 0.0, "g = 0.0"), ("M", -1.0, "M = -1.0"), ("mu", -0.5, "
                   ("L2", float("nan"), "L2 = nan"), ("FR", 0.0, "FR = 0.0"), ("d", 0.0, "d = 0.0"),
                   ("d_angle", -1.0, "d_angle = -1.0"), ("e", 1.5, "e = 1.5"), ("e", -0.2, "e = -0.2"),
                   ("contact_form", 2, "contact_form = 2"), ("Omega", float("inf"), "Omega = inf"),
-                  ("theta_0", 0.5, "penetrates")]
+                  ("theta_0", 0.5, "penetrates"), ("angle_limit", -0.1, "angle_limit = -0.1"),
+                  ("angle_limit", float("nan"), "angle_limit = nan")]
 
 
 # Each of these makes the FMU fail with fmi2Fatal, after which (FMI standard, and pythonfmu 0.7

@@ -2,15 +2,16 @@
 
 Variables (names are a contract): inputs F [N] and a_g [m/s2] (ground acceleration of a
 base excitation: it acts on both bodies, whose x and y are then measured from the ground); parameters g, M, mu, L2, FR, d,
-d_angle, e (tunable), contact_form, F0, Omega, phi and the initial state
+d_angle, e (tunable), contact_form, F0, Omega, phi, angle_limit and the initial state
 theta_0, theta_dot_0, alpha_0, alpha_dot_0; outputs theta, theta_dot, alpha,
 alpha_dot, x, y, z, a, impacts, contact, contact_force, energy,
 energy_dissipated, work_in.
 
-Bad input (invalid parameter, non-finite input, inconsistent step) is logged
-through the FMI logger at error level, naming the variable, its value and what
-is allowed, and the call then fails with an exception (fmi2Fatal in pythonfmu
-0.7), which makes every host stop with an error.  Hosts show the model's
+Bad input (invalid parameter, non-finite input, inconsistent step) fails the call
+with an exception naming the variable, its value and what is allowed; pythonfmu 0.7
+logs its text through the FMI logger and returns fmi2Fatal, which makes every host
+stop with an error.  A swing beyond angle_limit (the small-angle validity of the
+linear model) is logged once per run at warning level.  Hosts show the model's
 messages only with debug logging on.
 """
 import math
@@ -18,15 +19,16 @@ import uuid
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real
+from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
-from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, Damper, ParameterError, Params
+from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, Damper, ParameterError, Params, SmallAngleMonitor
 from pidamper_physics.params import check_restitution
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
 
-_START = {**DEFAULTS, **INITIAL_DEFAULTS}
+_START = {**DEFAULTS, **INITIAL_DEFAULTS, "angle_limit": SmallAngleMonitor.DEFAULT_LIMIT}
 
 # name, type, start, unit, min, max, description
 PARAMETERS = tuple((name, kind, _START[name], unit, lo, hi, desc) for name, kind, unit, lo, hi, desc in (
@@ -46,6 +48,8 @@ PARAMETERS = tuple((name, kind, _START[name], unit, lo, hi, desc) for name, kind
     ("theta_dot_0", Real, "rad/s", None, None, "initial primary angular velocity"),
     ("alpha_0", Real, "rad", None, None, "initial particle angle"),
     ("alpha_dot_0", Real, "rad/s", None, None, "initial particle angular velocity"),
+    ("angle_limit", Real, "rad", 0.0, None, "swing beyond which the linear (small-angle) model warns, once per run "
+                                            "(0.4 rad: its frequency is then 1 % off; 0 = never)"),
 ))
 
 # name, type, unit, description, direct feedthrough from F
@@ -88,6 +92,12 @@ _UNITS = {"s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "m": {"m": 1}, "m/s2": {"m": 
           "J": {"kg": 1, "m": 2, "s": -2}}
 
 _TIME_TOLERANCE = 1e-9  # relative mismatch of a step's start time accepted from a host
+
+
+def _fmi_text(text):
+    """A message for the FMI logger, which takes it as a printf format (FMI 2.0, 2.1.5): a bare
+    '%' would make the host read arguments that are not there (seen as a crash in fmpy)."""
+    return text.replace("%", "%%")
 
 
 class PendulumImpactDamper(Fmi2Slave):
@@ -167,6 +177,10 @@ class PendulumImpactDamper(Fmi2Slave):
         params = Params(**{name: getattr(self, name) for name in Params.NAMES})
         core = Damper(params, self.theta_0, self.theta_dot_0, self.alpha_0, self.alpha_dot_0, self._t0)
         core.on_impact = self._record
+        limit = self.angle_limit
+        if not (math.isfinite(limit) and limit >= 0.0):
+            raise ParameterError("angle_limit", limit, "it must be finite and >= 0 (0 turns the warning off)")
+        self._monitor = SmallAngleMonitor(params, limit) if limit > 0.0 else None
         return core
 
     def _fail(self, name, value, allowed):
@@ -175,7 +189,7 @@ class PendulumImpactDamper(Fmi2Slave):
         is deliberately not queued with self.log as well: pythonfmu 0.7 flushes that queue
         while the Python exception is still pending, which calls the host's logger in an
         invalid interpreter state (seen as heap corruption in fmpy hosts)."""
-        raise ValueError(f"{self.instance_name}: {name} = {value!r} is not allowed: {allowed}")
+        raise ValueError(_fmi_text(f"{self.instance_name}: {name} = {value!r} is not allowed: {allowed}"))
 
     def _core_now(self):
         if self._core is None:
@@ -216,7 +230,20 @@ class PendulumImpactDamper(Fmi2Slave):
             self._fail("a_g", ground, "the input must be finite")
         self._in_step = 0
         core.advance(max(current_time + step_size, t), force, ground)
+        monitor = self._monitor
+        if monitor is not None:
+            warning = monitor.check(core)
+            if warning:
+                self._warn(warning)
         return True
+
+    def terminate(self):
+        summary = self._monitor.summary() if self._monitor is not None and self._initialized else None
+        if summary:
+            self._warn(summary)
+
+    def _warn(self, text):
+        self.log(_fmi_text(f"{self.instance_name}: {text}"), Fmi2Status.warning)
 
     # ---- outputs --------------------------------------------------------------------
 
@@ -278,6 +305,8 @@ class PendulumImpactDamper(Fmi2Slave):
         state["_core"] = self._core.get_state() if self._initialized else None
         state["_in_step"] = self._in_step
         state["_slots"] = [list(slot) for slot in self._slots]
+        monitor = self._monitor if self._initialized else None
+        state["_monitor"] = None if monitor is None else monitor.get_state()
         return state
 
     def _set_fmu_state(self, state):
@@ -294,6 +323,8 @@ class PendulumImpactDamper(Fmi2Slave):
             core = self._build_core()
             core.set_state(dict(state["_core"]))
             self._core = core
+            if state["_monitor"] is not None:
+                self._monitor.set_state(state["_monitor"])
 
     # ---- modelDescription -----------------------------------------------------------
 

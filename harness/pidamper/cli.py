@@ -91,6 +91,8 @@ def cmd_run(args):
             print(f"the log in {args.out}/ reads back up to the failure", file=sys.stderr)
         raise
     d = result.data
+    for warning in result.meta.get("warnings", ()):
+        print(f"warning from the FMU: {warning}", file=sys.stderr)
     print(f"scene {sc.name}: {sc.description}; FMU {result.fmu}")
     print(f"forcing {signal.kind} {signal.args}; {len(d) - 1} steps of {h:g} s to t = {d['time'][-1]:.6g} s")
     print(f"impacts {int(d['impacts'][-1])}; max |theta| {abs(d['theta']).max():.6g} rad; "
@@ -152,6 +154,7 @@ def demo(out_dir="out"):
     print(f"  peaks theta_m [rad]: {', '.join(f'{pk.theta:.4f}' for pk in peaks)}")
     print(f"  impacts in {free_scene.stop_time / period:g} periods: {int(free.data['impacts'][-1])}; "
           f"CPU: run {free.cpu_time:.3f} s ({len(free.data) - 1} steps), measure {cpu_measure:.3f} s")
+    _print_warnings(free)
 
     forced_scene = scene_mod.load("resonance")
     forced = _run_scene(forced_scene, fmu, out)
@@ -169,9 +172,15 @@ def demo(out_dir="out"):
           f"({abs(with_d.theta):.5f} / {abs(without.theta):.5f} rad)")
     print(f"  impacts: {int(forced.data['impacts'][-1])}; CPU: run {forced.cpu_time:.3f} s "
           f"({len(forced.data) - 1} steps), measure {cpu_measure:.3f} s")
+    _print_warnings(forced)
     print(f"\nWritten to {out}/: free-decay and resonance as .csv, .mcap (Foxglove) and .rrd "
           f"(rerun {out}/resonance.rrd)")
     return 0
+
+
+def _print_warnings(result):
+    for text in result.meta.get("warnings", ()):
+        print("  FMU warning: " + text.partition(": ")[2])
 
 
 def _run_scene(sc, fmu, out):

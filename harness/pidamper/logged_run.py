@@ -190,7 +190,8 @@ def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.
         with _CtrlC() as ctrl_c:  # Ctrl-C ends the run between steps, never inside the FMU's Python
             result = run(parameters, forcing, stop_time, output_interval, fmu=path, start_time=start_time,
                          step_finished=lambda t, rec: collector(t, rec) and not ctrl_c.pressed,
-                         extra_outputs=("impacts_in_step",))
+                         extra_outputs=("impacts_in_step",),
+                         on_warning=lambda t, text: sinks.note(t, "warning", text))
         if ctrl_c.pressed:
             raise KeyboardInterrupt(f"interrupted by the user at t = {collector.last_t:.9g} s")
     except BaseException as err:

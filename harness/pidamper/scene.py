@@ -36,7 +36,7 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 PARAMETERS = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi",
-              "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0")
+              "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0", "angle_limit")
 FIDELITY = ("linear",)  # the levels this build provides
 SECTIONS = {"description": None, "name": None, "parameters": None, "forcing": None, "run": None, "outputs": None,
             "log": None}

@@ -49,18 +49,24 @@ class FmuError(RuntimeError):
 
 
 class FmuMessages:
-    """fmpy logger callback that keeps the model's messages (it logs only problems)."""
+    """fmpy logger callback that keeps the model's messages (it logs only problems: a warning
+    when a run leaves its model's validity, the reason of a failure)."""
+
+    WARNING = 1  # fmi2Warning
 
     def __init__(self):
-        self.messages = []
+        self.messages = []  # (fmi2Status, text)
 
     def __call__(self, component, instance, status, category, message):
         text = message.decode(errors="replace") if isinstance(message, bytes) else str(message)
-        self.messages.append(text.strip())
+        self.messages.append((status, text.strip()))
 
     def text(self):
         """The messages; a pythonfmu fatal-error report is reduced to the model's own words."""
-        return " | ".join(_model_words(m) for m in self.messages)
+        return " | ".join(_model_words(m) for _, m in self.messages)
+
+    def warnings(self):
+        return [text for status, text in self.messages if status == self.WARNING]
 
 
 def _model_words(message):
@@ -74,9 +80,10 @@ def resonance(parameters):
 
 
 def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu=None, start_time=0.0,
-        step_finished=None, extra_outputs=()):
+        step_finished=None, extra_outputs=(), on_warning=None):
     """Simulate the FMU with fmpy.simulate_fmu; parameters are FMU start values, extra_outputs
-    further FMU variables to record beside OUTPUTS."""
+    further FMU variables to record beside OUTPUTS.  The model's warnings end up in
+    result.meta["warnings"]; on_warning(t, text) also hears each one at the step it came in."""
     forcing = forcing or none()
     _check_interval(start_time, stop_time, output_interval)
     start_values = dict(parameters or {})
@@ -88,8 +95,16 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
     messages = FmuMessages()
     seen = {}
 
+    def tell(t):  # hand on_warning the warnings that came in since the last call
+        if on_warning is not None and len(messages.messages) != seen.get("heard", 0):
+            for status, text in messages.messages[seen.get("heard", 0):]:
+                if status == FmuMessages.WARNING:
+                    on_warning(t, text)
+            seen["heard"] = len(messages.messages)
+
     def watch(t, recorder):  # keeps the recorder, so a failed run still returns its rows
         seen["recorder"] = recorder
+        tell(t)
         return step_finished(t, recorder) if step_finished is not None else True
 
     cpu = time.process_time()
@@ -104,8 +119,9 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
                                 output_interval, time.process_time() - cpu)
         raise FmuError(f"{messages.text() or '(the model logged nothing)'} [{err}]", partial) from err
     cpu = time.process_time() - cpu
+    tell(float(data["time"][-1]))  # what the model said at fmi2Terminate
     data = _with_force(data, forcing)
-    return RunResult(data, path, start_values, forcing, output_interval, cpu)
+    return RunResult(data, path, start_values, forcing, output_interval, cpu, {"warnings": messages.warnings()})
 
 
 def _with_force(data, forcing):

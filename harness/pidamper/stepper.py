@@ -6,18 +6,35 @@ on the physics core directly.  The external force, if any, is sampled at the
 start of each advance and held (as a co-simulation host does).
 """
 import shutil
+from ctypes import byref
 
 import fmpy
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import FMU2Slave, fmi2Fatal
+from fmpy.fmi2 import (FMU2Slave, calloc, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, fmi2Fatal, free)
+from fmpy.logging import addLoggerProxy
 
 from pidamper_physics import INITIAL_DEFAULTS, Damper, Params
+
+
+def fmi2_callbacks(logger):
+    """FMI 2 callbacks as fmpy.simulate_fmu builds them (its C proxy formats the model's text),
+    calling logger(status, text)."""
+    callbacks = fmi2CallbackFunctions()
+    callbacks.logger = fmi2CallbackLoggerTYPE(
+        lambda component, instance, status, category, message: logger(status, message.decode(errors="replace")))
+    callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+    callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+    addLoggerProxy(byref(callbacks))
+    return callbacks
 
 
 class FmuStepper:
     """The damper FMU driven by fmpy's FMU2Slave."""
 
-    def __init__(self, fmu_path, start_values=None, forcing=None, start_time=0.0, instance_name="pidamper"):
+    def __init__(self, fmu_path, start_values=None, forcing=None, start_time=0.0, instance_name="pidamper",
+                 logger=None):
+        """logger(status, text): hears the model's messages (debug logging on), else they are dropped."""
         self._md = md = fmpy.read_model_description(str(fmu_path))
         self._dir = fmpy.extract(str(fmu_path))
         self._vars = {v.name: v for v in md.modelVariables}
@@ -28,7 +45,11 @@ class FmuStepper:
         self.fatal = False  # after fmi2Fatal the FMI standard forbids any further call
         self._closed = False
         fmu = self.fmu
-        fmu.instantiate()
+        if logger is None:
+            fmu.instantiate()
+        else:
+            self._callbacks = fmi2_callbacks(logger)  # kept alive as long as the instance
+            fmu.instantiate(callbacks=self._callbacks, loggingOn=True)
         try:
             self._call(fmu.setupExperiment, startTime=self.t)
             self._call(fmu.enterInitializationMode)

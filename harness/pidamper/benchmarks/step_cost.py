@@ -23,7 +23,9 @@ PERIOD = 2 * math.pi / W2
 
 CASES = (
     ("damper, no contact (d = 10 m)", {"d": 10.0, "theta_dot_0": 0.5}),
+    ("damper, no contact, validity check off (angle_limit = 0)", {"d": 10.0, "theta_dot_0": 0.5, "angle_limit": 0.0}),
     ("damper, free decay (FR 5, d 0.1 m, e 0.2, A0 = 0.7 rad)", {"theta_dot_0": 0.7 * W2}),
+    ("damper, free decay, validity check off", {"theta_dot_0": 0.7 * W2, "angle_limit": 0.0}),
     ("damper, resonance (mu 0.02, F0 = 0.01 M g)", {"mu": 0.02, "theta_dot_0": 0.0, "F0": 0.0981, "Omega": W2,
                                                     "phi": math.pi / 2}),
 )
