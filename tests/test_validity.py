@@ -45,7 +45,7 @@ def test_monitor_warns_once_at_the_first_swing_beyond_the_limit():
     assert "primary (theta) swings 0.5 rad" in text and "limit 0.45 rad" in text
     assert f"{100 * frequency_error(0.5):.2g} % slower" in text
     assert monitor.check(dm) is None and monitor.warned
-    assert "largest swings of the run: primary 0.5 rad, particle 0 rad" in monitor.summary()
+    assert "largest swings of the run: primary 0.5 rad, particle within the limit (limit 0.45 rad)" in monitor.summary()
     assert SmallAngleMonitor(p, 0.55).check(dm) is None
 
 

@@ -79,7 +79,7 @@ class SmallAngleMonitor:
 
     def largest(self):
         """(primary, particle) largest swings [rad] seen since the limit was first exceeded
-        (a body that never exceeded it reports the limit)."""
+        (a body that never exceeded it reports the limit; a particle without mass 0)."""
         return math.sqrt(self._x2) / self.p.L2, (math.sqrt(self._y2) / self.p.L1 if self.p.mu > 0.0 else 0.0)
 
     def summary(self):
@@ -88,8 +88,10 @@ class SmallAngleMonitor:
             return None
         primary, particle = self.largest()
         swing = max(primary, particle)
-        return (f"largest swings of the run: primary {primary:.3g} rad, particle {particle:.3g} rad "
-                f"(limit {self.limit:g} rad); at {swing:.3g} rad {_effect(swing)}.")
+        within = "within the limit"
+        return (f"largest swings of the run: primary {within if primary <= self.limit else f'{primary:.3g} rad'}, "
+                f"particle {within if particle <= self.limit else f'{particle:.3g} rad'} (limit {self.limit:g} rad); "
+                f"at {swing:.3g} rad {_effect(swing)}.")
 
 
 def _effect(swing):
