@@ -87,7 +87,7 @@ and a particle hung inside it as a second pendulum (mass m = mu M, length L1 = L
 strikes two stops. FMI 2.0 co-simulation; source revision {html.escape(git_revision())}.</p>
 <h2>Model</h2>
 <p>Linear coordinates x = L2 theta, y = L1 alpha. Between impacts:
-x'' + w2<sup>2</sup> x = F/M + (F0/M) sin(Omega t + phi), y'' + w1<sup>2</sup> y = 0, with
+x'' + w2<sup>2</sup> x = F/M + (F0/M) sin(Omega t + phi) - a_g, y'' + w1<sup>2</sup> y = -a_g, with
 w2 = sqrt(g/L2), w1 = FR w2, solved in closed form (exact also at resonance). Contact at
 x - y = &plusmn;d (contact_form 0) or theta - alpha = &plusmn;d_angle as printed in the paper
 (contact_form 1, where a pair that still closes after an impact passes through the stop until it
@@ -96,8 +96,11 @@ communication step is located exactly (conservative advancement: none can be mis
 inside fmi2DoStep; a chatter sequence whose rebound falls below float64 resolution collapses into
 sticking, and the particle rides the stop until the contact force reaches zero.</p>
 <h2>Assumptions</h2>
-<ul><li>small angles (linearised pendulums), point impacts, no structural damping;</li>
-<li>the external force F is held constant over each communication step (canInterpolateInputs = false);</li>
+<ul><li>small angles (linearised pendulums), point impacts, no structural damping; when a body's swing
+first exceeds angle_limit the FMU logs a warning (fmi2Warning, once per run) with the exact error of the
+linearisation at that swing, and at fmi2Terminate the largest swings of the run;</li>
+<li>the inputs F [N] (force on the primary) and a_g [m/s2] (ground acceleration under both pivots; x and y
+are measured from the ground) are held constant over each communication step (canInterpolateInputs = false);</li>
 <li>the model runs in the host's Python interpreter (3.8 or newer): a non-Python host must load libpython.</li></ul>
 <h2>Parameters</h2>
 <table border="1"><tr><th>name</th><th>unit</th><th>start</th><th>range</th><th>description</th></tr>
