@@ -158,6 +158,7 @@ def test_a_recorded_accelerogram_runs_from_a_scene_file(fmu_path, tmp_path):
     ("[parameters]\nmu = \"big\"\n", "parameters.mu", "'big'", "a finite number"),
     ("[forcing]\nkind = \"square\"\n", "forcing.kind", "'square'", "one of none, harmonic, sweep"),
     ("[forcing]\nkind = \"harmonic\"\npga = 1.0\n", "forcing.pga", "1.0", "takes F0, Omega"),
+    ("[forcing]\nkind = \"csv\"\n", "forcing.file", "None", "a csv forcing needs its file"),
     ("[run]\nstop_time = -1.0\n", "run.stop_time", "-1.0", "it must be > 0"),
     ("[run]\nstop_time = 1.0\nperiods = 2\n", "run", "'stop_time and periods'", "give one of them"),
     ("[run]\nfidelity = \"quantum\"\n", "run.fidelity", "'quantum'", "this build provides linear"),
@@ -198,3 +199,9 @@ def test_the_readme_s_scene_examples_are_valid_scenes():
         assert sc.stop_time > 0
         if sc.forcing["kind"] != "csv":  # the csv example names a user's file
             assert sc.make_forcing().kind == sc.forcing["kind"]
+
+
+def test_a_missing_forcing_file_is_named_with_where_it_was_looked_for(tmp_path):
+    sc = scene.load(write(tmp_path, '[forcing]\nkind = "csv"\nfile = "missing.csv"\n'))
+    with pytest.raises(SceneError, match=f"forcing.file = 'missing.csv' is not allowed: .*{tmp_path / 'missing.csv'}"):
+        sc.make_forcing()

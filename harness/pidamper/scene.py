@@ -104,7 +104,11 @@ class Scene:
             end = f.get("Omega_end", f.get("Omega_end_ratio", 1.5) * w2)
             return forcing_mod.sweep(f.get("F0", 0.01 * 9.81), start, end, self.stop_time)
         if kind == "csv":
-            return forcing_mod.from_csv(self.folder / f["file"])
+            path = self.folder / f["file"]
+            if not path.is_file():
+                raise SceneError(self.source, "forcing.file", f["file"],
+                                 f"it must name an existing file (looked for {path.resolve()})")
+            return forcing_mod.from_csv(path)
         args = {k: f[k] for k in ("pga", "omega_g", "zeta_g", "seed", "dt", "rise", "strong") if k in f}
         return forcing_mod.kanai_tajimi(self.stop_time, **args)
 
@@ -163,6 +167,9 @@ def parse(data, source="scene", folder=Path("."), name="scene"):
                 raise SceneError(source, "forcing.sampled", value, "true or false")
         else:
             _number(source, f"forcing.{key}", value)
+    if kind == "csv" and "file" not in forcing:
+        raise SceneError(source, "forcing.file", None,
+                         "a csv forcing needs its file (columns time,F or time,a_g; relative to the scene file)")
     run = _table(data, "run", source)
     for key, value in run.items():
         if key not in RUN_KEYS:
