@@ -14,3 +14,21 @@ def fmu_path(tmp_path_factory):
     path = out / "PendulumImpactDamper.fmu"
     assert path.is_file()
     return path
+
+
+@pytest.fixture
+def lockstep(fmu_path):
+    """check(values, forcing, h, n): the FMU and the core, stepped together n steps of h, agree
+    bit for bit at every step and on the impact count, which it returns."""
+    from pidamper import CoreStepper, FmuStepper
+
+    def check(values, signal, h, n):
+        with FmuStepper(fmu_path, values, forcing=signal) as fmu, CoreStepper(values, forcing=signal) as core:
+            for k in range(1, n + 1):
+                fmu.advance(k * h)
+                core.advance(k * h)
+                assert fmu.read() == core.read()
+            impacts = fmu.get("impacts")
+            assert impacts == core.get("impacts")
+        return impacts
+    return check

@@ -25,11 +25,6 @@ def frequency_error(amplitude):
     return da
 
 
-def swing_amplitude(q, q_dot, w):
-    """Amplitude [rad] of the free swing through angle q [rad] at rate q_dot [rad/s], frequency w [rad/s]."""
-    return math.hypot(q, q_dot / w)
-
-
 class SmallAngleMonitor:
     """Watches a Damper for swings beyond `limit` [rad] (> 0): warns at the first, then keeps
     the largest swing of each body for a summary at the end of the run.

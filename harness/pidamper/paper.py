@@ -150,13 +150,18 @@ class Figures:
         ax.set_xlabel("t [s]")
         ax.set_ylabel("theta [rad]")
         ax.legend(fontsize=7)
-        fig_.tight_layout()
-        name = self.out / reading / f"fig{fig:02d}-theta-{axis}-FR{_tag(FR)}"
-        fig_.savefig(name.with_suffix(".png"), dpi=100)
-        plt.close(fig_)
-        _save_csv(name.with_suffix(".csv"), ["time"] + [f"theta_{axis}{v:g}" for v in values_list],
-                  np.column_stack([rows[0][1]] + [r[2] for r in rows]).tolist())
+        self._save(fig_, reading, f"fig{fig:02d}-theta-{axis}-FR{_tag(FR)}",
+                   ["time"] + [f"theta_{axis}{v:g}" for v in values_list],
+                   np.column_stack([rows[0][1]] + [r[2] for r in rows]).tolist())
         return results
+
+    def _save(self, figure, reading, stem, header, rows):
+        """The figure as PNG and its data as CSV, both out/<reading>/<stem>."""
+        figure.tight_layout()
+        name = self.out / reading / stem
+        figure.savefig(name.with_suffix(".png"), dpi=100)
+        _plt().close(figure)
+        _save_csv(name.with_suffix(".csv"), header, rows)
 
     def phase(self, reading, fig, FR):
         plt = _plt()
@@ -169,15 +174,12 @@ class Figures:
         ax.set_xlabel("theta [rad]")
         ax.set_ylabel("theta_dot [rad/s]")
         ax.legend(fontsize=7)
-        fig_.tight_layout()
-        name = self.out / reading / f"fig{fig:02d}-phase-FR{_tag(FR)}"
-        fig_.savefig(name.with_suffix(".png"), dpi=100)
-        plt.close(fig_)
         cols = []
         for e, (_, theta, dot) in zip(ES, results):
             cols += [theta, dot]
-        _save_csv(name.with_suffix(".csv"), [f"{q}_e{e:g}" for e in ES for q in ("theta", "theta_dot")],
-                  np.column_stack(cols).tolist())
+        self._save(fig_, reading, f"fig{fig:02d}-phase-FR{_tag(FR)}",
+                   [f"{q}_e{e:g}" for e in ES for q in ("theta", "theta_dot")],
+                   np.column_stack(cols).tolist())
 
     def bars(self, reading, fig, axis, values_list):
         plt = _plt()
@@ -205,12 +207,9 @@ class Figures:
         fixed = "e = 0.2" if axis == "d" else "d = 0.1"
         fig_.suptitle(f"Fig. {fig}: damping ratio over FR x {axis} ({fixed}, mu = 0.1, A0 = 0.7 rad)\n"
                       f"{_label(reading)}", fontsize=8)
-        fig_.tight_layout()
-        name = self.out / reading / f"fig{fig:02d}-damping-FRx{axis}"
-        fig_.savefig(name.with_suffix(".png"), dpi=100)
-        plt.close(fig_)
-        _save_csv(name.with_suffix(".csv"), ["FR", axis, "damping_printed", "damping_exact", "damping_accumulated"],
-                  [(FR, v, r["printed"], r["exact"], r["accumulated"]) for (FR, v), r in table.items()])
+        self._save(fig_, reading, f"fig{fig:02d}-damping-FRx{axis}",
+                   ["FR", axis, "damping_printed", "damping_exact", "damping_accumulated"],
+                   [(FR, v, r["printed"], r["exact"], r["accumulated"]) for (FR, v), r in table.items()])
         return table
 
     def surface(self, reading, fig, axis, values_list, baseline):
@@ -230,12 +229,9 @@ class Figures:
         fixed = "e = 0.2" if axis == "d" else "d = 0.1"
         ax.set_title(f"Fig. {fig}: amplitude ratio at resonance over FR x {axis} ({fixed}, mu = 0.02),\n"
                      f"horizon {HORIZON} periods, F0 = 0.01 M g cos(w2 t); {_label(reading)}", fontsize=7)
-        fig_.tight_layout()
-        name = self.out / reading / f"fig{fig:02d}-amplitude-ratio-FRx{axis}"
-        fig_.savefig(name.with_suffix(".png"), dpi=100)
-        plt.close(fig_)
-        _save_csv(name.with_suffix(".csv"), ["FR", axis, "amplitude_ratio"],
-                  [(FR, v, ratio[i, j]) for i, FR in enumerate(SURFACE_FR) for j, v in enumerate(values_list)])
+        self._save(fig_, reading, f"fig{fig:02d}-amplitude-ratio-FRx{axis}",
+                   ["FR", axis, "amplitude_ratio"],
+                   [(FR, v, ratio[i, j]) for i, FR in enumerate(SURFACE_FR) for j, v in enumerate(values_list)])
         return ratio
 
     def frequency_response(self, reading, ratios=tuple(np.round(np.linspace(0.5, 1.5, 41), 6))):
@@ -252,12 +248,9 @@ class Figures:
         ax.set_ylabel("steady peak |theta| [rad]")
         ax.set_title(f"Frequency response, FR 5, d 0.1, e 0.2, mu 0.02, F0 = 0.01 M g\n{_label(reading)}", fontsize=8)
         ax.legend(fontsize=7)
-        fig_.tight_layout()
-        name = self.out / reading / "frequency-response"
-        fig_.savefig(name.with_suffix(".png"), dpi=100)
-        plt.close(fig_)
-        _save_csv(name.with_suffix(".csv"), ["Omega_ratio", "peak_theta_damper", "peak_theta_no_damper"],
-                  list(zip(ratios, damped, bare)))
+        self._save(fig_, reading, "frequency-response",
+                   ["Omega_ratio", "peak_theta_damper", "peak_theta_no_damper"],
+                   list(zip(ratios, damped, bare)))
         return dict(zip(ratios, damped))
 
     def reading(self, reading):

@@ -40,9 +40,13 @@ def wanted(info):
     return set((info.get("log") or {}).get("rerun_views") or VIEWS)
 
 
+VIEW_OF_GROUP = {"angles": "angles", "velocities": "velocities", "energy": "energy", "force": "force",
+                 "impacts": "events"}  # plots/<group>/... -> the view that shows it
+
+
 def series(views):
-    """The SERIES entries the views show (plots/<view>/...; the impact count goes with events)."""
-    return [entry for entry in SERIES if entry[0].split("/")[1].replace("impacts", "events") in views]
+    """The SERIES entries the views show."""
+    return [entry for entry in SERIES if VIEW_OF_GROUP[entry[0].split("/")[1]] in views]
 
 
 def blueprint(geometry, views=VIEWS):

@@ -28,7 +28,7 @@ from pathlib import Path
 from . import forcing as forcing_mod
 from .mcap_log import TOPICS as MCAP_TOPICS
 from .rerun_log import VIEWS as RERUN_VIEWS
-from .simulation import OUTPUTS
+from .simulation import OUTPUTS, resonance
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -38,8 +38,7 @@ else:  # pragma: no cover
 PARAMETERS = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi",
               "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0", "angle_limit")
 FIDELITY = ("linear",)  # the levels this build provides
-SECTIONS = {"description": None, "name": None, "parameters": None, "forcing": None, "run": None, "outputs": None,
-            "log": None}
+SECTIONS = ("description", "name", "parameters", "forcing", "run", "outputs", "log")
 FORCING_ARGS = {
     "none": (),
     "harmonic": ("F0", "Omega", "Omega_ratio", "phi", "sampled"),
@@ -78,7 +77,7 @@ class Scene:
 
     @property
     def w2(self):
-        return math.sqrt(self.parameters.get("g", 9.81) / self.parameters.get("L2", 1.0))
+        return resonance(self.parameters)
 
     @property
     def stop_time(self):
@@ -109,7 +108,7 @@ class Scene:
                 raise SceneError(self.source, "forcing.file", f["file"],
                                  f"it must name an existing file (looked for {path.resolve()})")
             return forcing_mod.from_csv(path)
-        args = {k: f[k] for k in ("pga", "omega_g", "zeta_g", "seed", "dt", "rise", "strong") if k in f}
+        args = {k: f[k] for k in FORCING_ARGS["kanai-tajimi"] if k in f}
         return forcing_mod.kanai_tajimi(self.stop_time, **args)
 
 
