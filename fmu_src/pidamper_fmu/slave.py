@@ -2,10 +2,10 @@
 
 Variables (names are a contract): inputs F [N] and a_g [m/s2] (ground acceleration of a
 base excitation: it acts on both bodies, whose x and y are then measured from the ground); parameters g, M, mu, L2, FR, d,
-d_angle, e (tunable), contact_form, F0, Omega, phi, angle_limit and the initial state
+d_angle, e (tunable), contact_form, F0, Omega, phi, fidelity, zeta_s, zeta_p, angle_limit and the initial state
 theta_0, theta_dot_0, alpha_0, alpha_dot_0; outputs theta, theta_dot, alpha,
 alpha_dot, x, y, z, a, impacts, contact, contact_force, energy,
-energy_dissipated, work_in.
+energy_dissipated, energy_viscous, work_in.
 
 Bad input (invalid parameter, non-finite input, inconsistent step) fails the call
 with an exception naming the variable, its value and what is allowed; pythonfmu 0.7
@@ -48,6 +48,11 @@ PARAMETERS = tuple((name, kind, _START[name], unit, lo, hi, desc) for name, kind
     ("theta_dot_0", Real, "rad/s", None, None, "initial primary angular velocity"),
     ("alpha_0", Real, "rad", None, None, "initial particle angle"),
     ("alpha_dot_0", Real, "rad/s", None, None, "initial particle angular velocity"),
+    ("fidelity", Integer, None, 0, 3, "model level: 0 linear (the paper), 1 damped (+ dashpots zeta_s, zeta_p), "
+                                       "2 coupled (particle hung from the moving primary), 3 nonlinear (large angles)"),
+    ("zeta_s", Real, "1", 0.0, 1.0, "viscous damping ratio of the primary, dashpot 2 zeta_s M w2 (fidelity >= 1; < 1)"),
+    ("zeta_p", Real, "1", 0.0, 1.0, "viscous damping ratio of the particle relative to its pivot, dashpot "
+                                    "2 zeta_p m w1 (fidelity >= 1; < 1)"),
     ("angle_limit", Real, "rad", 0.0, None, "swing beyond which the linear (small-angle) model warns, once per run "
                                             "(0.4 rad: its frequency is then 1 % off; 0 = never)"),
 ))
@@ -56,17 +61,18 @@ PARAMETERS = tuple((name, kind, _START[name], unit, lo, hi, desc) for name, kind
 OUTPUTS = (
     ("theta", Real, "rad", "primary angle", False),
     ("theta_dot", Real, "rad/s", "primary angular velocity", False),
-    ("alpha", Real, "rad", "particle angle", False),
+    ("alpha", Real, "rad", "particle angle (of its wire from the vertical)", False),
     ("alpha_dot", Real, "rad/s", "particle angular velocity", False),
     ("x", Real, "m", "primary displacement L2*theta", False),
-    ("y", Real, "m", "particle displacement L1*alpha", False),
+    ("y", Real, "m", "particle displacement (linear: L1*alpha; coupled: x + L1*alpha)", False),
     ("z", Real, "m", "gap x - y", False),
     ("a", Real, "m/s2", "primary acceleration between impacts", True),
     ("impacts", Integer, None, "impacts applied so far (chatter impacts included)", False),
     ("contact", Integer, None, "0 free, +1/-1 particle riding that stop", False),
     ("contact_force", Real, "N", "force of the stop on the particle while riding it, else 0", True),
-    ("energy", Real, "J", "mechanical energy 0.5 M (v^2 + w2^2 x^2) + 0.5 m (u^2 + w1^2 y^2)", False),
+    ("energy", Real, "J", "mechanical energy of the level's model (linear: 0.5 M (v^2 + w2^2 x^2) + 0.5 m (u^2 + w1^2 y^2))", False),
     ("energy_dissipated", Real, "J", "energy dissipated by impacts so far", False),
+    ("energy_viscous", Real, "J", "energy taken by the viscous dashpots so far (fidelity >= 1)", False),
     ("work_in", Real, "J", "work done by the applied forces so far, integral of F v dt", False),
 )
 
@@ -249,19 +255,19 @@ class PendulumImpactDamper(Fmi2Slave):
 
     def _out_theta(self):
         c = self._core_now()
-        return c.x / c.p.L2
+        return c.angles()[0]
 
     def _out_theta_dot(self):
         c = self._core_now()
-        return c.v / c.p.L2
+        return c.angles()[1]
 
     def _out_alpha(self):
         c = self._core_now()
-        return c.y / c.p.L1
+        return c.angles()[2]
 
     def _out_alpha_dot(self):
         c = self._core_now()
-        return c.u / c.p.L1
+        return c.angles()[3]
 
     def _out_x(self):
         return self._core_now().x
@@ -290,6 +296,9 @@ class PendulumImpactDamper(Fmi2Slave):
 
     def _out_energy_dissipated(self):
         return self._core_now().dissipated
+
+    def _out_energy_viscous(self):
+        return self._core_now().viscous
 
     def _out_work_in(self):
         return self._core_now().work_in

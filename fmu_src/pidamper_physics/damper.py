@@ -30,8 +30,8 @@ import math
 
 from .events import CROSS, locate, classify, resolution_speed
 from .impact import collide, impact_loss
+from .levels import model_for
 from .params import DISPLACEMENT, Params, ParameterError, check_finite, check_restitution
-from .segments import Flight, Outside, Stick
 
 FREE = 0     # both bodies swing freely inside the gap
 STICK = 1    # the particle rides stop `side` (displacement form)
@@ -40,7 +40,7 @@ OUTSIDE = 2  # angle form: the bodies have passed through stop `side`
 CHATTER_HEIGHT = 16.0  # rebound apex, in position-rounding units, below which chatter collapses
 
 STATE_KEYS = ("t", "x", "v", "y", "u", "mode", "side", "fresh", "impacts", "dissipated",
-              "work_in", "energy")
+              "work_in", "viscous", "energy")
 
 
 class Damper:
@@ -49,6 +49,7 @@ class Damper:
     def __init__(self, params=None, theta0=0.0, theta_dot0=0.0, alpha0=0.0, alpha_dot0=0.0, t0=0.0):
         p = params if params is not None else Params()
         self.p = p
+        self.model = model_for(p)
         for name, val in (("theta_0", theta0), ("theta_dot_0", theta_dot0), ("alpha_0", alpha0),
                           ("alpha_dot_0", alpha_dot0), ("start time", t0)):
             check_finite(name, val)
@@ -67,13 +68,13 @@ class Damper:
         self.impacts = 0
         self.dissipated = 0.0
         self.work_in = 0.0
+        self.viscous = 0.0  # energy taken by the dashpots (damped level on)
         self.energy = self._energy()
         self.energy0 = self.energy
         self.on_impact = None  # optional callback(t, side, rel_before, rel_after, loss)
         # longest segment: one period of the fastest motion keeps trig arguments (and
         # so rounding) small and the derivative bounds tight
-        p_fast = max(p.w1, p.w2, p.Omega, math.sqrt((p.w2 ** 2 + p.mu * p.w1 ** 2) / (1.0 + p.mu)))
-        self._max_span = 2.0 * math.pi / p_fast
+        self._max_span = 2.0 * math.pi / self.model.fastest
 
     # ---- public API -------------------------------------------------------------------
 
@@ -100,14 +101,16 @@ class Damper:
                 t_new = t_end if span == horizon else self.t + span
                 if observe is not None:
                     observe(seg, self.t, t_new)
-                self._move(seg, span, t_new)
+                # move by the float time step actually taken, so the state stays at self.t exactly
+                # (a forcing phase tied to t must not drift by the rounding of t over long runs)
+                self._move(seg, t_new - self.t, t_new, fc)
                 ready = None
                 continue
             tau, kind, guard = event
             t_new = t_end if tau >= horizon else self.t + tau
             if observe is not None:
                 observe(seg, self.t, t_new)
-            self._move(seg, tau, t_new)
+            self._move(seg, t_new - self.t if tau > 0.0 else 0.0, t_new, fc)
             ready = self._handle(kind, 1 - 2 * guard, fc, min(t_end - self.t, self._max_span))
 
     def dense(self, times, force=0.0, ground=0.0):
@@ -136,6 +139,13 @@ class Damper:
     def set_restitution(self, e):
         self.p.e = check_restitution(e)
 
+    def angles(self):
+        """(theta, theta_dot, alpha, alpha_dot) [rad, rad/s]: primary angle and the particle's
+        wire angle from the vertical (its pivot moves with the primary from the coupled level on)."""
+        p = self.p
+        r, w = self.model.particle_swing(self.x, self.v, self.y, self.u)
+        return self.x / p.L2, self.v / p.L2, r / p.L1, w / p.L1
+
     @property
     def contact(self):
         """+1 / -1 while the particle rides that stop, else 0."""
@@ -146,16 +156,14 @@ class Damper:
         ground acceleration `ground` [m/s2]."""
         p = self.p
         f = force / p.M + p.F0 / p.M * math.sin(p.Omega * self.t + p.phi)
-        if self.mode != STICK:
-            return f - p.w2 * p.w2 * self.x - ground
-        return (f + p.mu * p.w1 * p.w1 * (self.side * p.d - self.x) - p.w2 * p.w2 * self.x) / (1.0 + p.mu) - ground
+        return self.model.acceleration(self.x, self.v, self.y, self.u, self.contact, f, ground)
 
     def contact_force(self, force=0.0, ground=0.0):
         """Force [N] of the stop on the particle while it rides a stop, else 0."""
         if self.mode != STICK:
             return 0.0
-        p = self.p
-        return p.m * (self.acceleration(force, ground) + p.w1 * p.w1 * (self.x - self.side * p.d) + ground)
+        accel = self.acceleration(force, ground)
+        return self.p.m * self.model.contact_accel(self.x, self.v, self.side, accel, ground)
 
     def get_state(self):
         """Plain dict (JSON-safe) of everything that determines the future motion."""
@@ -168,28 +176,30 @@ class Damper:
     # ---- internals --------------------------------------------------------------------
 
     def _energy(self):
-        p = self.p
-        return 0.5 * p.M * (self.v * self.v + p.w2 * p.w2 * self.x * self.x) + \
-            0.5 * p.m * (self.u * self.u + p.w1 * p.w1 * self.y * self.y)
+        return self.model.energy(self.x, self.v, self.y, self.u)
 
     def _segment(self, fc, horizon):
         """The segment from the current state and mode; fc = (loads per mass on primary, particle)."""
-        p = self.p
-        psi = p.Omega * self.t + p.phi
-        fx, fy = fc
+        psi = self.p.Omega * self.t + self.p.phi
+        model = self.model
         if self.mode == STICK:
-            return Stick(p, self.x, self.v, self.side, fx, fy, psi, horizon)
+            return model.stick(self.x, self.v, self.side, fc, psi, horizon)
         if self.mode == OUTSIDE:
-            return Outside(p, self.x, self.v, self.y, self.u, fx, fy, psi, horizon, self.side)
-        return Flight(p, self.x, self.v, self.y, self.u, fx, fy, psi, horizon)
+            return model.outside(self.x, self.v, self.y, self.u, fc, psi, horizon, self.side)
+        return model.flight(self.x, self.v, self.y, self.u, fc, psi, horizon)
 
-    def _move(self, seg, tau, t_new):
-        """Take the state at tau of the segment; the work of the forces is the energy change."""
-        self.x, self.v, self.y, self.u = seg.positions(tau)
+    def _move(self, seg, tau, t_new, fc):
+        """Take the state at tau of the segment and book the work of the loads and the dashpots
+        (the linear level has no dashpots: its work is the energy change)."""
+        before = (self.x, self.v, self.y, self.u)
+        self.x, self.v, self.y, self.u = after = seg.positions(tau)
         if tau > 0.0:
             self.fresh = False
         e_new = self._energy()
-        self.work_in += e_new - self.energy
+        work, viscous = self.model.work(seg, tau, before, after, fc, self.p.Omega * self.t + self.p.phi,
+                                        e_new - self.energy)
+        self.work_in += work
+        self.viscous += viscous
         self.energy = e_new
         self.t = t_new
 
@@ -205,8 +215,8 @@ class Damper:
         self._snap(side)
         if kind == CROSS:
             self._impact(side)
-        seg = Flight(self.p, self.x, self.v, self.y, self.u, fc[0], fc[1], self.p.Omega * self.t + self.p.phi, span,
-                     always_bound=True)
+        seg = self.model.flight(self.x, self.v, self.y, self.u, fc, self.p.Omega * self.t + self.p.phi, span,
+                                always_bound=True)
         mode = self._after_contact(seg, side, kind == CROSS)
         self._switch(mode, 0 if mode == FREE else side)
         return seg if mode == FREE else None

@@ -47,7 +47,8 @@ class SmallAngleMonitor:
 
     def check(self, damper):
         """A warning text the first time a body's swing exceeds the limit, else None."""
-        x, v, y, u = damper.x, damper.v, damper.y, damper.u
+        x, v = damper.x, damper.v
+        y, u = damper.model.particle_swing(x, v, damper.y, damper.u)
         sx, sy = x * x + v * v * self._k2, y * y + u * u * self._k1
         if sx <= self._x2 and sy <= self._y2:
             return None

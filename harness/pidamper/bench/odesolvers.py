@@ -114,7 +114,7 @@ class _EventDriven:
             return side * (acc + self.w1sq * (x - side * c.d) + c.ground)
         return g
 
-    def rel_acc(self, t, x, y):
+    def rel_acc(self, t, x, v, y, u):
         """Relative acceleration z'' of the free motion."""
         return (self.f(t) - self.w2sq * x) + self.w1sq * y
 
@@ -132,7 +132,7 @@ class _EventDriven:
         traj.impacts.append((t, side, u - v))
         v, u = self.collide(v, u, c.e)
         if self.logic:
-            q2 = -side * self.rel_acc(t, x, y)  # second derivative of the gap guard
+            q2 = -side * self.rel_acc(t, x, v, y, u)  # second derivative of the gap guard
             rebound = -side * (v - u)
             if q2 < 0 and rebound * rebound <= -2.0 * q2 * self.h_min:
                 vc = (v + c.mu * u) / (1 + c.mu)

@@ -1,0 +1,158 @@
+"""The fidelity levels below `nonlinear`: what each one's equations are, as segment builders.
+
+All levels share the state (x, v, y, u): horizontal displacements and velocities of the
+primary and the particle [m, m/s] measured from the (possibly accelerating) ground; the gap
+is x - y, the impact law is impact.py's.  Loads per mass: fx = F/M - a_g on the primary,
+fy = -a_g on the particle, plus the built-in harmonic a = F0/M on the primary.
+
+- Linear (the paper): x'' + w2^2 x = fx, y'' + w1^2 y = fy (pivots fixed); segments.py.
+- Damped: plus the dashpots 2 zeta_s w2 x' and 2 zeta_p w1 y' (per mass).
+- Coupled: the particle hangs from the primary (a double pendulum, linearised):
+      x'' = -(1 + mu) w2^2 x + mu w1^2 (y - x) - 2 zeta_s w2 x' + mu 2 zeta_p w1 (y' - x') + fx
+      y'' = -w1^2 (y - x) - 2 zeta_p w1 (y' - x') + fy
+  so the primary carries the particle's weight (with the particle locked to it, the pair
+  swings at w2) and the particle dashpot acts on its motion relative to its pivot.
+"""
+import math
+
+from .modal import Modes, ModesError
+from .modal_segments import ModalFlight, ModalStick, harmonic_work
+from .params import COUPLED, LINEAR, ParameterError
+from .segments import Flight, Outside, Stick
+
+
+class LinearModel:
+    """The paper's model: two independent undamped oscillators (segments.py)."""
+
+    damped = False
+
+    def __init__(self, p):
+        self.p = p
+        self.fastest = max(p.w1, p.w2, p.Omega, math.sqrt((p.w2 ** 2 + p.mu * p.w1 ** 2) / (1.0 + p.mu)))
+
+    def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
+        return Flight(self.p, x, v, y, u, fc[0], fc[1], psi, T, always_bound)
+
+    def outside(self, x, v, y, u, fc, psi, T, side):
+        return Outside(self.p, x, v, y, u, fc[0], fc[1], psi, T, side)
+
+    def stick(self, x, v, side, fc, psi, T):
+        return Stick(self.p, x, v, side, fc[0], fc[1], psi, T)
+
+    def energy(self, x, v, y, u):
+        p = self.p
+        return 0.5 * p.M * (v * v + p.w2 * p.w2 * x * x) + 0.5 * p.m * (u * u + p.w1 * p.w1 * y * y)
+
+    def particle_swing(self, x, v, y, u):
+        """Particle displacement and velocity relative to its pivot [m, m/s]."""
+        return y, u
+
+    def acceleration(self, x, v, y, u, side, f, ground):
+        """Primary acceleration [m/s2]; f = F/M + F0/M sin(...) [m/s2], side = stop ridden or 0."""
+        p = self.p
+        if not side:
+            return f - p.w2 * p.w2 * x - ground
+        return (f + p.mu * p.w1 * p.w1 * (side * p.d - x) - p.w2 * p.w2 * x) / (1.0 + p.mu) - ground
+
+    def contact_accel(self, x, v, side, accel, ground):
+        """Contact force per particle mass [m/s2] while riding stop `side`."""
+        p = self.p
+        return accel + p.w1 * p.w1 * (x - side * p.d) + ground
+
+    def work(self, seg, tau, before, after, fc, psi, e_change):
+        """(work of the applied loads, viscous loss) [J] over seg up to tau."""
+        return e_change, 0.0
+
+
+class ModalModel:
+    """Damped or coupled level: closed form by modes (modal.py, modal_segments.py)."""
+
+    damped = True
+
+    def __init__(self, p):
+        self.p = p
+        self.coupled = p.fidelity == COUPLED
+        w1, w2, mu = p.w1, p.w2, p.mu
+        cs, cp = 2.0 * p.zeta_s * w2, 2.0 * p.zeta_p * w1  # dashpots per mass of their body
+        if self.coupled:
+            K = [[(1.0 + mu) * w2 * w2 + mu * w1 * w1, -mu * w1 * w1], [-w1 * w1, w1 * w1]]
+            C = [[cs + mu * cp, -mu * cp], [-cp, cp]]
+            ks, cs1 = w2 * w2, cs / (1.0 + mu)
+        else:
+            K = [[w2 * w2, 0.0], [0.0, w1 * w1]]
+            C = [[cs, 0.0], [0.0, cp]]
+            ks, cs1 = (w2 * w2 + mu * w1 * w1) / (1.0 + mu), (cs + mu * cp) / (1.0 + mu)
+        try:
+            self.free = (Modes(K, C), K, C)
+        except ModesError as err:
+            raise ParameterError("mu, FR", (mu, p.FR), f"the coupled level needs distinct modes: {err}") from None
+        self.ride = (Modes([[ks]], [[cs1]]), [[ks]], [[cs1]])
+        self.K, self.C, self.ks, self.cs1, self.cp = K, C, ks, cs1, cp
+        self.fastest = max(self.free[0].fastest, self.ride[0].fastest, p.Omega)
+
+    def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
+        p = self.p
+        return ModalFlight(self.free, (x, y, v, u), fc, p.F0 / p.M, p.Omega, psi, T, p.D, always_bound)
+
+    def stick(self, x, v, side, fc, psi, T):
+        p = self.p
+        q = 1.0 + p.mu
+        ww1 = p.w1 * p.w1
+        fx, fy = fc
+        if self.coupled:
+            b = (fx + p.mu * fy) / q
+            contact = (-self.ks, -self.cs1, b - ww1 * side * p.d - fy)
+        else:
+            b = (p.mu * ww1 * side * p.d + fx + p.mu * fy) / q
+            contact = (ww1 - self.ks, self.cp - self.cs1, b - ww1 * side * p.d - fy)
+        return ModalStick(self.ride, x, v, side, p.d, b, p.F0 / p.M / q, p.Omega, psi, T, contact)
+
+    def energy(self, x, v, y, u):
+        p = self.p
+        if self.coupled:
+            r = y - x
+            return 0.5 * p.M * (v * v + (1.0 + p.mu) * p.w2 * p.w2 * x * x) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
+        return 0.5 * p.M * (v * v + p.w2 * p.w2 * x * x) + 0.5 * p.m * (u * u + p.w1 * p.w1 * y * y)
+
+    def particle_swing(self, x, v, y, u):
+        return (y - x, u - v) if self.coupled else (y, u)
+
+    def acceleration(self, x, v, y, u, side, f, ground):
+        if side:
+            return self._ride_accel(x, v, side, f, ground)
+        K, C = self.K, self.C
+        return f - ground - K[0][0] * x - K[0][1] * y - C[0][0] * v - C[0][1] * u
+
+    def _ride_accel(self, x, v, side, f, ground):
+        p = self.p
+        q = 1.0 + p.mu
+        fx, fy = f - ground, -ground
+        b = (fx + p.mu * fy) / q if self.coupled else (p.mu * p.w1 * p.w1 * side * p.d + fx + p.mu * fy) / q
+        return b - self.ks * x - self.cs1 * v
+
+    def contact_accel(self, x, v, side, accel, ground):
+        p = self.p
+        ww1 = p.w1 * p.w1
+        if self.coupled:
+            return accel - ww1 * side * p.d + ground
+        return accel + ww1 * (x - side * p.d) + self.cp * v + ground
+
+    def work(self, seg, tau, before, after, fc, psi, e_change):
+        p = self.p
+        held = p.M * fc[0] * (after[0] - before[0]) + p.m * fc[1] * (after[2] - before[2])
+        w = held + p.M * harmonic_work(seg, tau, p.F0 / p.M, p.Omega, psi, _primary_velocity)
+        return w, w - e_change
+
+
+def _primary_velocity(seg, tau):
+    return seg.positions(tau)[1]
+
+
+def model_for(p):
+    """The level model of Params p (nonlinear is built by nonlinear.py)."""
+    if p.fidelity == LINEAR:
+        return LinearModel(p)
+    if p.fidelity > COUPLED:
+        from .nonlinear import NonlinearModel
+        return NonlinearModel(p)
+    return ModalModel(p)

@@ -1,0 +1,231 @@
+"""Closed-form motion of a damped linear system with one or two degrees of freedom, by modes.
+
+    q'' + C q' + K q = b + f sin(Omega tau + psi),    tau = t - t0 >= 0
+
+(mass-normalised: K, C in 1/s2, 1/s; b, f in m/s2 per DOF).  With z = (q, q') the system
+is z' = A z + ..., A = [[0, I], [-K, -C]], whose eigenvalues lam_k (complex, Re <= 0) and
+eigenvectors V[:, k] = (phi_k, lam_k phi_k) are found once per (K, C) by `Modes`.  Each
+modal coordinate eta_k obeys eta' = lam eta + beta + gamma sin(Omega tau + psi), solved by
+
+    eta(tau) = exp(lam tau) (eta0 + beta/lam) - beta/lam + g+ E(i Omega) + g- E(-i Omega),
+    E(s) = (exp(s tau) - exp(lam tau)) / (s - lam) = tau exp(lam tau) phi1((s - lam) tau),
+
+with g+- = +-gamma exp(+-i psi) / 2i and phi1(w) = (exp(w) - 1)/w summed as a series for small
+|w|: exact at and next to resonance.  Complex-conjugate modes are folded (one of each pair,
+weight 2), so a two-DOF underdamped system costs two complex modes per evaluation.
+Plain Python (math, cmath): this runs inside the FMU.
+"""
+import cmath
+import math
+
+_SERIES = 0.25  # |w| below which phi1 is summed as a series (14 terms: below 1e-17)
+
+
+def phi1(w):
+    """(exp(w) - 1) / w for complex w, accurate for every w (series near 0)."""
+    if abs(w) > _SERIES:
+        return (cmath.exp(w) - 1.0) / w
+    term = total = 1.0 + 0j
+    for k in range(2, 16):
+        term = term * w / k
+        total += term
+    return total
+
+
+def _quartic_roots(c3, c2, c1, c0, guesses):
+    """Roots of l^4 + c3 l^3 + c2 l^2 + c1 l + c0 (Durand-Kerner, then Newton polish)."""
+    def p(x):
+        return (((x + c3) * x + c2) * x + c1) * x + c0
+
+    def dp(x):
+        return ((4.0 * x + 3.0 * c3) * x + 2.0 * c2) * x + c1
+
+    roots = list(guesses)
+    for _ in range(500):
+        moved = 0.0
+        for i, r in enumerate(roots):
+            den = 1.0 + 0j
+            for j, s in enumerate(roots):
+                if j != i:
+                    den *= r - s
+            step = p(r) / den
+            roots[i] = r - step
+            moved = max(moved, abs(step) / max(abs(r), 1e-300))
+        if moved < 1e-15:
+            break
+    for i, r in enumerate(roots):  # Newton: quadratic convergence to full precision
+        for _ in range(3):
+            d = dp(r)
+            if d == 0:
+                break
+            r = r - p(r) / d
+        roots[i] = r
+    return roots
+
+
+def _solve(a, b):
+    """x with a x = b (complex Gauss elimination with partial pivoting; a is n x n)."""
+    n = len(a)
+    m = [list(row) + [b[i]] for i, row in enumerate(a)]
+    for col in range(n):
+        piv = max(range(col, n), key=lambda r: abs(m[r][col]))
+        m[col], m[piv] = m[piv], m[col]
+        for r in range(col + 1, n):
+            f = m[r][col] / m[col][col]
+            for c in range(col, n + 1):
+                m[r][c] -= f * m[col][c]
+    x = [0j] * n
+    for r in range(n - 1, -1, -1):
+        x[r] = (m[r][n] - sum(m[r][c] * x[c] for c in range(r + 1, n))) / m[r][r]
+    return x
+
+
+class ModesError(ValueError):
+    """The system has coinciding modes (not diagonalisable): closed form by modes fails."""
+
+
+class Modes:
+    """Eigen-decomposition of q'' + C q' + K q (n = 1 or 2 DOF, K and C as nested lists)."""
+
+    def __init__(self, K, C):
+        n = len(K)
+        self.n = n
+        uncoupled = n == 2 and K[0][1] == K[1][0] == C[0][1] == C[1][0] == 0.0
+        if uncoupled:  # two independent oscillators: modes may share a frequency (FR = 1)
+            lams = [-0.5 * C[i][i] + sign * cmath.sqrt(0.25 * C[i][i] ** 2 - K[i][i]) for i in (0, 1) for sign in (1, -1)]
+        elif n == 1:
+            k, c = K[0][0], C[0][0]
+            disc = cmath.sqrt(0.25 * c * c - k)
+            lams = [-0.5 * c + disc, -0.5 * c - disc]
+        else:
+            (k11, k12), (k21, k22) = K
+            (c11, c12), (c21, c22) = C
+            guesses = [-0.5 * c11 + cmath.sqrt(0.25 * c11 * c11 - k11) * (1 + 1e-3j),
+                       -0.5 * c11 - cmath.sqrt(0.25 * c11 * c11 - k11) * (1 - 2e-3j),
+                       -0.5 * c22 + cmath.sqrt(0.25 * c22 * c22 - k22) * (1.01 + 3e-3j),
+                       -0.5 * c22 - cmath.sqrt(0.25 * c22 * c22 - k22) * (0.99 - 4e-3j)]
+            lams = _quartic_roots(c11 + c22, k11 + k22 + c11 * c22 - c12 * c21,
+                                  c11 * k22 + c22 * k11 - c12 * k21 - c21 * k12, k11 * k22 - k12 * k21, guesses)
+        scale = max(abs(x) for x in lams)
+        for i in range(len(lams) if not uncoupled else 0):
+            for j in range(i):
+                if abs(lams[i] - lams[j]) <= 1e-7 * scale:
+                    raise ModesError(f"two modes coincide (eigenvalue {lams[i]:.6g})")
+        vecs = [[1.0 + 0j, 0j]] * 2 + [[0j, 1.0 + 0j]] * 2 if uncoupled else [self._shape(K, C, lam) for lam in lams]
+        # columns (phi, lam phi); V^-1 columns from solving V x = e_j
+        V = [[vecs[k][i] for k in range(2 * n)] for i in range(n)] + \
+            [[lams[k] * vecs[k][i] for k in range(2 * n)] for i in range(n)]
+        inv_cols = [_solve(V, [1.0 if r == j else 0.0 for r in range(2 * n)]) for j in range(2 * n)]
+        # fold conjugate pairs: keep Im > 0 with weight 2, real modes with weight 1
+        keep = [k for k, lam in enumerate(lams) if lam.imag > 1e-12 * scale or abs(lam.imag) <= 1e-12 * scale]
+        self.lam = [lams[k] for k in keep]
+        self.weight = [2.0 if lams[k].imag > 1e-12 * scale else 1.0 for k in keep]
+        self.V = [[V[i][k] for k in keep] for i in range(2 * n)]  # rows: components of z
+        self.W = [[inv_cols[j][k] for j in range(2 * n)] for k in keep]  # rows: modal projections
+        self.fastest = scale
+
+    @staticmethod
+    def _shape(K, C, lam):
+        if len(K) == 1:
+            return [1.0 + 0j]
+        l2 = lam * lam
+        r0 = (l2 + C[0][0] * lam + K[0][0], C[0][1] * lam + K[0][1])
+        r1 = (C[1][0] * lam + K[1][0], l2 + C[1][1] * lam + K[1][1])
+        a, b = r0 if abs(r0[0]) + abs(r0[1]) >= abs(r1[0]) + abs(r1[1]) else r1
+        phi = [-b, a]
+        norm = math.sqrt(abs(phi[0]) ** 2 + abs(phi[1]) ** 2)
+        return [phi[0] / norm, phi[1] / norm]
+
+
+class Motion:
+    """One segment of q'' + C q' + K q = b + f sin(Omega tau + psi) from z0 = (q0, q0')."""
+
+    __slots__ = ("modes", "n", "coef", "const", "gp", "gm", "om", "forced", "b", "f", "psi", "z0")
+
+    def __init__(self, modes, z0, b, f=None, om=0.0, psi=0.0):
+        self.modes = modes
+        n = self.n = modes.n
+        self.z0 = z0
+        self.b, self.om, self.psi = b, om, psi
+        self.forced = f is not None and any(fi != 0.0 for fi in f) and om >= 0.0
+        self.f = f if self.forced else None
+        self.coef, self.const, self.gp, self.gm = [], [], [], []
+        eip = cmath.exp(1j * psi)
+        for lam, w in zip(modes.lam, modes.W):
+            eta0 = sum(w[i] * z0[i] for i in range(2 * n))
+            beta = sum(w[n + i] * b[i] for i in range(n))
+            c = beta / lam
+            self.coef.append(eta0 + c)
+            self.const.append(-c)
+            if self.forced:
+                gamma = sum(w[n + i] * f[i] for i in range(n))
+                self.gp.append(gamma * eip / 2j)
+                self.gm.append(-gamma / eip / 2j)
+
+    def modal(self, tau):
+        """Modal coordinates eta_k(tau) of the kept modes."""
+        out = []
+        if self.forced:
+            sp = 1j * self.om
+            ep, em = cmath.exp(sp * tau), cmath.exp(-sp * tau)
+        for k, lam in enumerate(self.modes.lam):
+            el = cmath.exp(lam * tau)
+            eta = el * self.coef[k] + self.const[k]
+            if self.forced:
+                eta += self.gp[k] * _spread(sp, lam, tau, ep, el) + self.gm[k] * _spread(-sp, lam, tau, em, el)
+            out.append(eta)
+        return out
+
+    def state(self, tau):
+        """z(tau) = (q, q') as a list of floats."""
+        eta = self.modal(tau)
+        m = self.modes
+        out = []
+        for row in m.V:
+            s = 0.0
+            for k, e in enumerate(eta):
+                s += m.weight[k] * (row[k] * e).real
+            out.append(s)
+        return out
+
+    def load(self, tau):
+        """(sin, cos) of Omega tau + psi (0, 0 unforced)."""
+        if not self.forced:
+            return 0.0, 0.0
+        a = self.om * tau + self.psi
+        return math.sin(a), math.cos(a)
+
+    def bounds(self, T, orders=5):
+        """Per component of z: bounds of |z_c - rest_c| and of |d^j z_c / dtau^j|, j = 1..orders-1,
+        over 0 <= tau <= T (Re lam <= 0 makes |exp(lam tau)| <= 1)."""
+        m = self.modes
+        om = self.om
+        per_mode = []
+        for k, lam in enumerate(m.lam):
+            a = abs(lam)
+            row = [abs(self.coef[k]) * a ** j for j in range(orders)]
+            if self.forced:
+                for g, s in ((self.gp[k], 1j * om), (self.gm[k], -1j * om)):
+                    ga = abs(g)
+                    gap = abs(s - lam)
+                    p = ga * T  # secular bound of the forced part, then its derivatives
+                    for j in range(orders):
+                        steady = ga * (om ** j + a ** j) / gap if gap > 0.0 else math.inf
+                        row[j] += min(p, steady)
+                        p = a * p + ga * om ** j
+            per_mode.append(row)
+        return [[sum(m.weight[k] * abs(vrow[k]) * per_mode[k][j] for k in range(len(m.lam))) for j in range(orders)]
+                for vrow in m.V]
+
+    def rest(self):
+        """Per component of z: the constant part (the equilibrium under the held load b)."""
+        m = self.modes
+        return [sum(m.weight[k] * (vrow[k] * self.const[k]).real for k in range(len(m.lam))) for vrow in m.V]
+
+
+def _spread(s, lam, tau, es, el):
+    """(exp(s tau) - exp(lam tau)) / (s - lam), given es = exp(s tau), el = exp(lam tau)."""
+    w = (s - lam) * tau
+    if abs(w) > _SERIES:
+        return (es - el) / (s - lam)
+    return tau * el * phi1(w)
