@@ -23,7 +23,7 @@ from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
 from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, Damper, ParameterError, Params, SmallAngleMonitor
-from pidamper_physics.params import check_restitution
+from pidamper_physics.params import NONLINEAR, check_restitution
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
@@ -63,8 +63,9 @@ OUTPUTS = (
     ("theta_dot", Real, "rad/s", "primary angular velocity", False),
     ("alpha", Real, "rad", "particle angle (of its wire from the vertical)", False),
     ("alpha_dot", Real, "rad/s", "particle angular velocity", False),
-    ("x", Real, "m", "primary displacement L2*theta", False),
-    ("y", Real, "m", "particle displacement (linear: L1*alpha; coupled: x + L1*alpha)", False),
+    ("x", Real, "m", "primary displacement (linear levels: L2*theta; nonlinear: L2 sin(theta))", False),
+    ("y", Real, "m", "particle displacement (linear, damped: L1*alpha; coupled: x + L1*alpha; nonlinear: "
+                     "x + L1 sin(alpha))", False),
     ("z", Real, "m", "gap x - y", False),
     ("a", Real, "m/s2", "primary acceleration between impacts", True),
     ("impacts", Integer, None, "impacts applied so far (chatter impacts included)", False),
@@ -159,7 +160,7 @@ class PendulumImpactDamper(Fmi2Slave):
         if n < IMPACT_SLOTS:
             slot = self._slots[n]
             slot[0], slot[1], slot[2], slot[3], slot[4] = t, side, v_rel_before, v_rel_after, loss
-            slot[5] = self._core.x / self._core.p.L2
+            slot[5] = self._core.angles()[0]
         self._in_step = n + 1
 
     # ---- parameters -----------------------------------------------------------------
@@ -186,7 +187,8 @@ class PendulumImpactDamper(Fmi2Slave):
         limit = self.angle_limit
         if not (math.isfinite(limit) and limit >= 0.0):
             raise ParameterError("angle_limit", limit, "it must be finite and >= 0 (0 turns the warning off)")
-        self._monitor = SmallAngleMonitor(params, limit) if limit > 0.0 else None
+        small_angles = params.fidelity != NONLINEAR  # the nonlinear level has no small-angle limit
+        self._monitor = SmallAngleMonitor(params, limit) if limit > 0.0 and small_angles else None
         return core
 
     def _fail(self, name, value, allowed):
@@ -270,14 +272,14 @@ class PendulumImpactDamper(Fmi2Slave):
         return c.angles()[3]
 
     def _out_x(self):
-        return self._core_now().x
+        return self._core_now().displacements()[0]
 
     def _out_y(self):
-        return self._core_now().y
+        return self._core_now().displacements()[2]
 
     def _out_z(self):
-        c = self._core_now()
-        return c.x - c.y
+        x, _, y, _ = self._core_now().displacements()
+        return x - y
 
     def _out_a(self):
         return self._core_now().acceleration(self.F, self.a_g)

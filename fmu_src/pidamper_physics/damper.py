@@ -29,7 +29,6 @@ E(0) + work_in - E(t) = dissipated up to rounding.
 import math
 
 from .events import CROSS, locate, classify, resolution_speed
-from .impact import collide, impact_loss
 from .levels import model_for
 from .params import DISPLACEMENT, Params, ParameterError, check_finite, check_restitution
 
@@ -54,10 +53,10 @@ class Damper:
                           ("alpha_dot_0", alpha_dot0), ("start time", t0)):
             check_finite(name, val)
         self.t = float(t0)
-        self.x, self.v = p.L2 * theta0, p.L2 * theta_dot0
-        self.y, self.u = p.L1 * alpha0, p.L1 * alpha_dot0
-        gap = p.cx * self.x - p.cy * self.y
-        slack = 64 * 2.220446049250313e-16 * (p.D + abs(p.cx * self.x) + abs(p.cy * self.y))
+        self.x, self.v, self.y, self.u = self.model.from_angles(theta0, theta_dot0, alpha0, alpha_dot0)
+        x, _, y, _ = self.displacements()
+        gap = p.cx * x - p.cy * y
+        slack = 64 * 2.220446049250313e-16 * (p.D + abs(p.cx * x) + abs(p.cy * y))
         if abs(gap) > p.D + slack:
             name = "d" if p.contact_form == DISPLACEMENT else "d_angle"
             raise ParameterError("theta_0, alpha_0", (theta0, alpha0),
@@ -96,6 +95,8 @@ class Damper:
             horizon = t_end - self.t
             span = min(horizon, self._max_span)
             seg = ready or self._segment(fc, span)
+            if seg.reach < span:  # an integrator step (nonlinear level) ends before the span
+                span = seg.reach
             event = locate(seg, span, self.fresh)
             if event is None:
                 t_new = t_end if span == horizon else self.t + span
@@ -142,9 +143,11 @@ class Damper:
     def angles(self):
         """(theta, theta_dot, alpha, alpha_dot) [rad, rad/s]: primary angle and the particle's
         wire angle from the vertical (its pivot moves with the primary from the coupled level on)."""
-        p = self.p
-        r, w = self.model.particle_swing(self.x, self.v, self.y, self.u)
-        return self.x / p.L2, self.v / p.L2, r / p.L1, w / p.L1
+        return self.model.angles(self.x, self.v, self.y, self.u)
+
+    def displacements(self):
+        """(x, v, y, u): horizontal positions and velocities of primary and particle [m, m/s]."""
+        return self.model.displacements(self.x, self.v, self.y, self.u)
 
     @property
     def contact(self):
@@ -162,16 +165,21 @@ class Damper:
         """Force [N] of the stop on the particle while it rides a stop, else 0."""
         if self.mode != STICK:
             return 0.0
-        accel = self.acceleration(force, ground)
-        return self.p.m * self.model.contact_accel(self.x, self.v, self.side, accel, ground)
+        p = self.p
+        f = force / p.M + p.F0 / p.M * math.sin(p.Omega * self.t + p.phi)
+        return p.m * self.model.contact_accel(self.x, self.v, self.side, f, ground)
 
     def get_state(self):
         """Plain dict (JSON-safe) of everything that determines the future motion."""
-        return {k: getattr(self, k) for k in STATE_KEYS}
+        state = {k: getattr(self, k) for k in STATE_KEYS}
+        state["step_hint"] = getattr(self.model, "hint", 0.0)  # the integrator's next step (nonlinear)
+        return state
 
     def set_state(self, state):
         for k in STATE_KEYS:
             setattr(self, k, state[k])
+        if hasattr(self.model, "hint"):
+            self.model.hint = state["step_hint"]
 
     # ---- internals --------------------------------------------------------------------
 
@@ -239,33 +247,28 @@ class Damper:
 
     def _snap(self, side):
         """Put the pair exactly on the stop (removes rounding-level overlap)."""
-        p = self.p
-        self.y = (p.cx * self.x - side * p.D) / p.cy
+        self.x, self.v, self.y, self.u = self.model.snap(self.x, self.v, self.y, self.u, side)
 
     def _impact(self, side):
-        p = self.p
-        v, u = self.v, self.u
-        loss = impact_loss(p.M, p.mu, p.e, v, u)
-        self.v, self.u = collide(v, u, p.mu, p.e)
+        state, loss, before, after = self.model.collide(self.x, self.v, self.y, self.u, side, self.p.e)
+        self.x, self.v, self.y, self.u = state
         self.impacts += 1
         self._account(loss)
         if self.on_impact is not None:
-            self.on_impact(self.t, side, u - v, self.u - self.v, loss)
+            self.on_impact(self.t, side, before, after, loss)
 
     def _collapse(self, side, counted):
         """Plastic impact that ends a chatter sequence on stop `side` (counted as an impact),
         or evens out the rounding-level relative speed of a touch (not counted)."""
-        p = self.p
-        v, u = self.v, self.u
-        if u == v:
+        state, loss, before, _ = self.model.collide(self.x, self.v, self.y, self.u, side, 0.0)
+        if before == 0.0:
             return
-        loss = impact_loss(p.M, p.mu, 0.0, v, u)
-        self.v, self.u = collide(v, u, p.mu, 0.0)
+        self.x, self.v, self.y, self.u = state
         self._account(loss)
         if counted:
             self.impacts += 1
             if self.on_impact is not None:
-                self.on_impact(self.t, side, u - v, 0.0, loss)
+                self.on_impact(self.t, side, before, 0.0, loss)
 
     def _account(self, loss):
         self.dissipated += loss

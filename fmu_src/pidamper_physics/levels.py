@@ -15,13 +15,50 @@ fy = -a_g on the particle, plus the built-in harmonic a = F0/M on the primary.
 """
 import math
 
+from .impact import collide, impact_loss
 from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work
 from .params import COUPLED, LINEAR, ParameterError
 from .segments import Flight, Outside, Stick
 
 
-class LinearModel:
+class _Displacements:
+    """Shared by the levels whose coordinates are the displacements x, y themselves."""
+
+    reach = math.inf
+
+    def displacements(self, x, v, y, u):
+        return x, v, y, u
+
+    def angles(self, x, v, y, u):
+        p = self.p
+        r, w = self.particle_swing(x, v, y, u)
+        return x / p.L2, v / p.L2, r / p.L1, w / p.L1
+
+    def from_angles(self, theta, theta_dot, alpha, alpha_dot):
+        """State (x, v, y, u) of primary angle theta and particle wire angle alpha [rad, rad/s]."""
+        p = self.p
+        x, v, r, w = p.L2 * theta, p.L2 * theta_dot, p.L1 * alpha, p.L1 * alpha_dot
+        return (x, v, x + r, v + w) if p.fidelity == COUPLED else (x, v, r, w)
+
+    def contact_accel(self, x, v, side, f, ground):
+        """Contact force per particle mass [m/s2] while riding stop `side`; f = applied force per
+        primary mass [m/s2]."""
+        return self._contact(x, v, side, self.acceleration(x, v, x - side * self.p.d, v, side, f, ground), ground)
+
+    def snap(self, x, v, y, u, side):
+        """The state put exactly on stop `side` (removes rounding-level overlap)."""
+        p = self.p
+        return x, v, (p.cx * x - side * p.D) / p.cy, u
+
+    def collide(self, x, v, y, u, side, e):
+        """(state after, loss [J], u - v before, after) of an impact with restitution e."""
+        p = self.p
+        v1, u1 = collide(v, u, p.mu, e)
+        return (x, v1, y, u1), impact_loss(p.M, p.mu, e, v, u), u - v, u1 - v1
+
+
+class LinearModel(_Displacements):
     """The paper's model: two independent undamped oscillators (segments.py)."""
 
     damped = False
@@ -54,8 +91,7 @@ class LinearModel:
             return f - p.w2 * p.w2 * x - ground
         return (f + p.mu * p.w1 * p.w1 * (side * p.d - x) - p.w2 * p.w2 * x) / (1.0 + p.mu) - ground
 
-    def contact_accel(self, x, v, side, accel, ground):
-        """Contact force per particle mass [m/s2] while riding stop `side`."""
+    def _contact(self, x, v, side, accel, ground):
         p = self.p
         return accel + p.w1 * p.w1 * (x - side * p.d) + ground
 
@@ -64,7 +100,7 @@ class LinearModel:
         return e_change, 0.0
 
 
-class ModalModel:
+class ModalModel(_Displacements):
     """Damped or coupled level: closed form by modes (modal.py, modal_segments.py)."""
 
     damped = True
@@ -130,7 +166,7 @@ class ModalModel:
         b = (fx + p.mu * fy) / q if self.coupled else (p.mu * p.w1 * p.w1 * side * p.d + fx + p.mu * fy) / q
         return b - self.ks * x - self.cs1 * v
 
-    def contact_accel(self, x, v, side, accel, ground):
+    def _contact(self, x, v, side, accel, ground):
         p = self.p
         ww1 = p.w1 * p.w1
         if self.coupled:

@@ -20,6 +20,7 @@ _ORDERS = 6  # derivative bounds up to the 5th: the stick guard needs x^(5) for 
 class ModalFlight:
     """Both bodies free; z = (x, y, v, u) follows the 2-DOF system of the level."""
 
+    reach = math.inf  # the closed form holds over the whole span
     __slots__ = ("motion", "K", "C", "b", "f", "om", "D", "bounds", "noise", "growth", "clear", "sgn")
 
     def __init__(self, system, z0, b, a, om, psi, T, D, always_bound=False):
@@ -65,6 +66,7 @@ class ModalStick:
     """The particle rides stop `sgn`: the pair (x, v) follows the 1-DOF system of the level;
     guard = sgn N/m with N/m = kx x + kv v + k0 + kf sin (see the module doc)."""
 
+    reach = math.inf  # the closed form holds over the whole span
     __slots__ = ("motion", "k", "c", "b", "a", "om", "sgn", "d", "kx", "kv", "k0", "bounds", "noise", "growth",
                  "clear")
 

@@ -34,6 +34,7 @@ class Flight:
     and the gap is evaluated inline (this is the solver's innermost loop).
     """
 
+    reach = math.inf  # the closed form holds over the whole span
     __slots__ = ("px", "py", "cx", "cy", "D", "bounds", "noise", "growth", "clear", "sgn", "inline", "start",
                  "w2", "xe", "a2", "b2", "w1", "ye", "a1", "b1")
 
@@ -141,6 +142,7 @@ class Outside(Flight):
 class Stick:
     """The particle rides stop `sgn`: y = x - sgn d, u = v; guard = sgn N / m."""
 
+    reach = math.inf  # the closed form holds over the whole span
     __slots__ = ("osc", "sgn", "d", "k", "base", "a", "om", "bounds", "noise", "growth", "clear")
 
     def __init__(self, p, x, v, sgn, fx, fy, psi, T):
