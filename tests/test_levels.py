@@ -164,3 +164,15 @@ def test_a_level_refuses_what_it_cannot_model(kwargs, name):
         Damper(Params(**kwargs))
     assert err.value.name == name
     assert "it must" in str(err.value) or "needs" in str(err.value) or "level" in str(err.value)
+
+
+@pytest.mark.parametrize("level", [DAMPED, COUPLED, 3])
+def test_each_level_through_the_fmu_equals_the_core(lockstep, level):
+    """The FMU's fidelity parameter selects the same physics as the core, bit for bit, under
+    a sampled harmonic force and an accelerogram."""
+    from pidamper import forcing
+    values = {"fidelity": level, "zeta_s": 0.02, "zeta_p": 0.05, "FR": 2.0, "d": 0.05, "e": 0.5,
+              "theta_dot_0": 0.3 * W2}
+    assert lockstep(values, forcing.harmonic(0.05, W2, 0.0, True), 0.01, 400) > 3
+    quake = forcing.kanai_tajimi(duration=4.0, dt=0.01, pga=2.0, seed=2)
+    lockstep(values, quake, 0.01, 400)

@@ -59,7 +59,7 @@ def ran(fmu_path, tmp_path_factory):
     return out
 
 
-@pytest.mark.parametrize("name", REQUIRED + ("default",))
+@pytest.mark.parametrize("name", REQUIRED + ("default", "damped-resonance", "large-swing"))
 def test_each_shipped_scene_runs_end_to_end_and_its_logs_read_back(ran, name):
     sc = scene.load(name)
     info, states, impacts, notes = read_run(ran / f"{name}.mcap")
@@ -69,9 +69,9 @@ def test_each_shipped_scene_runs_end_to_end_and_its_logs_read_back(ran, name):
     assert t[0] == 0.0 and t[-1] == pytest.approx(sc.stop_time, abs=1e-12)
     assert np.all(np.diff(t) <= h * (1 + 1e-9)) and len(t) == math.ceil(sc.stop_time / h - 1e-9) + 1
     last = states[-1]
-    # the energy balance closes at the end of every scene: E0 + W_in - E = dissipated
+    # the energy balance closes at the end of every scene: E0 + W_in - E = impact + dashpot losses
     balance = states[0]["energy"] + last["work_in"] - last["energy"]
-    assert balance == pytest.approx(last["energy_dissipated"], abs=1e-9 * max(1.0, states[0]["energy"], last["work_in"]))
+    assert balance == pytest.approx(last["energy_dissipated"] + last["energy_viscous"], abs=1e-9 * max(1.0, states[0]["energy"], last["work_in"]))
     assert last["impacts"] > 0 and len(impacts) == last["impacts"]  # every impact is logged individually
     assert notes[-1][2].startswith("run complete")
     series = rrd_entities(ran / f"{name}.rrd")
@@ -161,7 +161,7 @@ def test_a_recorded_accelerogram_runs_from_a_scene_file(fmu_path, tmp_path):
     ("[forcing]\nkind = \"csv\"\n", "forcing.file", "None", "a csv forcing needs its file"),
     ("[run]\nstop_time = -1.0\n", "run.stop_time", "-1.0", "it must be > 0"),
     ("[run]\nstop_time = 1.0\nperiods = 2\n", "run", "'stop_time and periods'", "give one of them"),
-    ("[run]\nfidelity = \"quantum\"\n", "run.fidelity", "'quantum'", "this build provides linear"),
+    ("[run]\nfidelity = \"quantum\"\n", "run.fidelity", "'quantum'", "one of linear, damped, coupled, nonlinear"),
     ("[outputs]\nrecord = [\"theta\", \"speed\"]\n", "outputs.record", "'speed'", "FMU outputs are theta"),
     ("[log]\nmcap_topics = [\"/nope\"]\n", "log.mcap_topics", "'/nope'", "one of /damper/state"),
     ("[log]\nrerun_views = [\"spectrum\"]\n", "log.rerun_views", "'spectrum'", "one of angles"),
@@ -178,7 +178,7 @@ def test_invalid_scenes_are_refused_with_field_value_and_what_is_allowed(tmp_pat
 
 
 def test_unknown_scene_names_list_the_shipped_ones(tmp_path, capsys):
-    with pytest.raises(SceneError, match="one of the shipped scenes: default, free-decay"):
+    with pytest.raises(SceneError, match="one of the shipped scenes: damped-resonance, default, free-decay"):
         scene.load("no-such-scene")
     assert main(["run", "no-such-scene", "--no-log"]) == 2
     assert "no-such-scene" in capsys.readouterr().err

@@ -18,6 +18,7 @@ import math
 from .impact import collide, impact_loss
 from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work
+from .nonlinear import NonlinearModel
 from .params import COUPLED, LINEAR, ParameterError
 from .segments import Flight, Outside, Stick
 
@@ -185,10 +186,9 @@ def _primary_velocity(seg, tau):
 
 
 def model_for(p):
-    """The level model of Params p (nonlinear is built by nonlinear.py)."""
+    """The level model of Params p (the nonlinear one lives in nonlinear.py)."""
     if p.fidelity == LINEAR:
         return LinearModel(p)
     if p.fidelity > COUPLED:
-        from .nonlinear import NonlinearModel
         return NonlinearModel(p)
     return ModalModel(p)

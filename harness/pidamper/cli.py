@@ -58,6 +58,8 @@ def scene_from_args(args):
             args.stop_time if args.stop_time is not None else args.periods)
     if args.output_interval is not None:
         run["output_interval"] = args.output_interval
+    if args.fidelity is not None:
+        run["fidelity"] = args.fidelity
     if args.no_log:
         data["log"].update(mcap=False, rrd=False)
     if args.no_rrd:
@@ -67,7 +69,7 @@ def scene_from_args(args):
 
 def cmd_run(args):
     sc = scene_from_args(args)
-    params, signal = sc.parameters, sc.make_forcing()
+    params, signal = sc.start_values, sc.make_forcing()
     stop, h = sc.stop_time, sc.output_interval
     log = sc.log
     logs = None
@@ -185,7 +187,7 @@ def _print_warnings(result):
 
 def _run_scene(sc, fmu, out):
     """A scene's logged run into out/, its table as CSV beside the logs."""
-    result = run_logged(sc.parameters, sc.make_forcing(), stop_time=sc.stop_time, output_interval=sc.output_interval,
+    result = run_logged(sc.start_values, sc.make_forcing(), stop_time=sc.stop_time, output_interval=sc.output_interval,
                         out_dir=out, name=sc.name, fmu=fmu, topics=sc.log.get("mcap_topics"),
                         views=sc.log.get("rerun_views"), scene=sc.summary()).result
     result.write_csv(out / f"{sc.name}.csv", sc.outputs)
@@ -234,6 +236,7 @@ def main(argv=None):
     p_run.add_argument("--stop-time", type=float, help="horizon [s]")
     p_run.add_argument("--periods", type=float, help="horizon in primary periods")
     p_run.add_argument("--output-interval", type=float, help="communication step [s]")
+    p_run.add_argument("--fidelity", help="model level: linear, damped, coupled or nonlinear (validated like the scene)")
     p_run.add_argument("--csv-out", help="write the result table to this CSV file")
     p_run.add_argument("--out", default="out", help="folder for the run's NAME.mcap and NAME.rrd (default: out)")
     p_run.add_argument("--name", help="file stem of the logs (default: the scene's name)")

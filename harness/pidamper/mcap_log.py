@@ -40,7 +40,8 @@ STATE_SCHEMA = _schema("pidamper.DamperState", STATE_FIELDS, {
     "time": "s", "F": "N, external force held over the step ending here",
     "a_g": "m/s2, ground acceleration held over the step ending here", "theta": "rad", "theta_dot": "rad/s",
     "alpha": "rad", "alpha_dot": "rad/s", "x": "m", "y": "m", "contact": "0 free, +1/-1 riding that stop",
-    "impacts": "impacts so far", "energy": "J", "energy_dissipated": "J", "work_in": "J"})
+    "impacts": "impacts so far", "energy": "J", "energy_dissipated": "J, by impacts",
+    "energy_viscous": "J, by the dashpots (damped level on)", "work_in": "J"})
 IMPACT_SCHEMA = _schema("pidamper.Impact", IMPACT_FIELDS, {
     "t": "s", "side": "+1 or -1", "v_rel_before": "m/s, particle minus primary", "v_rel_after": "m/s",
     "energy_lost": "J", "theta": "rad, primary angle at the impact", "index": "1-based impact number"})

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 STATE_FIELDS = ("time", "F", "a_g", "theta", "theta_dot", "alpha", "alpha_dot", "x", "y", "contact", "impacts",
-                "energy", "energy_dissipated", "work_in")
+                "energy", "energy_dissipated", "energy_viscous", "work_in")
 STATE_DTYPE = np.dtype([(n, np.int64 if n in ("contact", "impacts") else np.float64) for n in STATE_FIELDS])
 
 IMPACT_FIELDS = ("t", "side", "v_rel_before", "v_rel_after", "energy_lost", "theta", "index")

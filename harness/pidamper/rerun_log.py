@@ -24,6 +24,7 @@ SERIES = (  # entity, state field, colour
     ("plots/velocities/alpha_dot", "alpha_dot", (240, 170, 20)),
     ("plots/energy/energy", "energy", (60, 160, 60)),
     ("plots/energy/energy_dissipated", "energy_dissipated", (200, 60, 50)),
+    ("plots/energy/energy_viscous", "energy_viscous", (230, 120, 160)),
     ("plots/energy/work_in", "work_in", (120, 120, 120)),
     ("plots/force/F", "F", (120, 60, 160)),
     ("plots/force/a_g", "a_g", (160, 100, 40)),

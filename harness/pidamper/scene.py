@@ -13,7 +13,7 @@ Fields (every one optional but [forcing].kind):
                   sweep: F0, Omega_start / Omega_end [rad/s] or Omega_start_ratio / Omega_end_ratio
                   csv: file (time,F or time,a_g; relative to the scene file)
                   kanai-tajimi: pga [m/s2], omega_g [rad/s], zeta_g, seed, dt [s], rise [s], strong [s]
-    [run]         stop_time [s] or periods (of the primary), output_interval [s], fidelity ("linear")
+    [run]         stop_time [s] or periods (of the primary), output_interval [s], fidelity ("linear", "damped", "coupled" or "nonlinear")
     [outputs]     record = [...]: the FMU outputs kept in the result table and CSV
     [log]         mcap, rrd (bool); mcap_topics = [...]; rerun_views = [...]
 
@@ -24,6 +24,8 @@ import math
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
+
+from pidamper_physics.params import LEVELS
 
 from . import forcing as forcing_mod
 from .mcap_log import TOPICS as MCAP_TOPICS
@@ -36,8 +38,8 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 PARAMETERS = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi",
-              "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0", "angle_limit")
-FIDELITY = ("linear",)  # the levels this build provides
+              "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0", "angle_limit", "zeta_s", "zeta_p")
+FIDELITY = LEVELS  # linear, damped, coupled, nonlinear: FMU parameter fidelity = the index
 SECTIONS = ("description", "name", "parameters", "forcing", "run", "outputs", "log")
 FORCING_ARGS = {
     "none": (),
@@ -74,6 +76,12 @@ class Scene:
     def summary(self):
         """What a run's log keeps of its scene."""
         return {"name": self.name, "source": self.source, "description": self.description}
+
+    @property
+    def start_values(self):
+        """FMU start values: the parameters and the fidelity level's index."""
+        level = self.run.get("fidelity", "linear")
+        return {**self.parameters, "fidelity": FIDELITY.index(level)}
 
     @property
     def w2(self):
@@ -175,9 +183,7 @@ def parse(data, source="scene", folder=Path("."), name="scene"):
             raise SceneError(source, f"run.{key}", value, f"the run fields are {', '.join(RUN_KEYS)}")
         if key == "fidelity":
             if value not in FIDELITY:
-                raise SceneError(source, "run.fidelity", value,
-                                 f"this build provides {', '.join(FIDELITY)} (damped, coupled and nonlinear are not "
-                                 "implemented yet)")
+                raise SceneError(source, "run.fidelity", value, f"one of {', '.join(FIDELITY)}")
         elif _number(source, f"run.{key}", value) <= 0:
             raise SceneError(source, f"run.{key}", value, "it must be > 0")
     if "stop_time" in run and "periods" in run:

@@ -19,7 +19,7 @@ from .fmu import find_fmu
 from .forcing import Forcing, none
 
 OUTPUTS = ("theta", "theta_dot", "alpha", "alpha_dot", "x", "y", "z", "a", "impacts", "contact",
-           "contact_force", "energy", "energy_dissipated", "work_in")
+           "contact_force", "energy", "energy_dissipated", "energy_viscous", "work_in")
 
 
 @dataclass

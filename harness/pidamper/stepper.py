@@ -155,13 +155,12 @@ class CoreStepper:
             self.core.advance(t_end, value)
 
     def read(self):
-        c = self.core
-        return c.x / c.p.L2, c.v / c.p.L2
+        return self.core.angles()[:2]
 
     def get(self, name):
         c = self.core
         return {"impacts": c.impacts, "energy": c.energy, "energy_dissipated": c.dissipated,
-                "work_in": c.work_in, "theta": c.x / c.p.L2}[name]
+                "energy_viscous": c.viscous, "work_in": c.work_in, "theta": c.angles()[0]}[name]
 
     def save(self):
         return self.core.get_state()
