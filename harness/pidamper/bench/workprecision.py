@@ -342,7 +342,16 @@ def main(argv=None):
     parser.add_argument("--out", default="docs/bench", help="folder for the CSV, Markdown and PNGs")
     parser.add_argument("--report-only", action="store_true",
                         help="rewrite the Markdown table and the plots from the CSV of an earlier run")
+    parser.add_argument("--levels", action="store_true",
+                        help="model error of each fidelity level against nonlinear by amplitude, and its cost "
+                             "(writes docs/levels unless --out is given)")
     args = parser.parse_args(argv)
+    if args.levels:
+        from . import levels
+        out = Path(args.out if args.out != "docs/bench" else "docs/levels")
+        levels.write(levels.measure(repeats=args.repeats), out)
+        print(f"wrote {out}/levels.csv, README.md and levels-error.png")
+        return 0
     chosen = [c for c in CASES if not args.case or c.name in args.case]
     if args.report_only:
         return report(Path(args.out), chosen)
