@@ -95,8 +95,14 @@ re-enters the gap). Impact law: momentum conserved, Newton restitution e. Every 
 communication step is located exactly (conservative advancement: none can be missed) and handled
 inside fmi2DoStep; a chatter sequence whose rebound falls below float64 resolution collapses into
 sticking, and the particle rides the stop until the contact force reaches zero.</p>
+<p>Parameter fidelity picks the model: 0 linear (the above, the paper's), 1 damped (plus dashpots
+2 zeta_s M w2 on the primary and 2 zeta_p m w1 on the particle), 2 coupled (plus the particle hung from
+the moving primary: a linearised double pendulum; alpha is then the wire angle and y = x + L1 alpha),
+both closed form by complex modes, and 3 nonlinear (the double pendulum at any angle, integrated by
+DOP853 with guaranteed event location; x = L2 sin theta, y = x + L1 sin alpha). energy_viscous is the
+energy taken by the dashpots.</p>
 <h2>Assumptions</h2>
-<ul><li>small angles (linearised pendulums), point impacts, no structural damping; when a body's swing
+<ul><li>point impacts; levels 0 to 2 assume small angles (linearised pendulums); when a body's swing
 first exceeds angle_limit the FMU logs a warning (fmi2Warning, once per run) with the exact error of the
 linearisation at that swing, and at fmi2Terminate the largest swings of the run;</li>
 <li>the inputs F [N] (force on the primary) and a_g [m/s2] (ground acceleration under both pivots; x and y
