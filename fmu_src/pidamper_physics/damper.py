@@ -104,14 +104,14 @@ class Damper:
                     observe(seg, self.t, t_new)
                 # move by the float time step actually taken, so the state stays at self.t exactly
                 # (a forcing phase tied to t must not drift by the rounding of t over long runs)
-                self._move(seg, t_new - self.t, t_new, fc)
+                self._move(seg, span, t_new, fc)
                 ready = None
                 continue
             tau, kind, guard = event
             t_new = t_end if tau >= horizon else self.t + tau
             if observe is not None:
                 observe(seg, self.t, t_new)
-            self._move(seg, t_new - self.t if tau > 0.0 else 0.0, t_new, fc)
+            self._move(seg, tau, t_new, fc)
             ready = self._handle(kind, 1 - 2 * guard, fc, min(t_end - self.t, self._max_span))
 
     def dense(self, times, force=0.0, ground=0.0):
