@@ -102,8 +102,6 @@ class Damper:
                 t_new = t_end if span == horizon else self.t + span
                 if observe is not None:
                     observe(seg, self.t, t_new)
-                # move by the float time step actually taken, so the state stays at self.t exactly
-                # (a forcing phase tied to t must not drift by the rounding of t over long runs)
                 self._move(seg, span, t_new, fc)
                 ready = None
                 continue
@@ -198,16 +196,19 @@ class Damper:
 
     def _move(self, seg, tau, t_new, fc):
         """Take the state at tau of the segment and book the work of the loads and the dashpots
-        (the linear level has no dashpots: its work is the energy change)."""
-        before = (self.x, self.v, self.y, self.u)
+        (a level without dashpots, work = None, books the energy change as the work)."""
+        book = self.model.work
+        before = (self.x, self.v, self.y, self.u) if book is not None else None
         self.x, self.v, self.y, self.u = after = seg.positions(tau)
         if tau > 0.0:
             self.fresh = False
         e_new = self._energy()
-        work, viscous = self.model.work(seg, tau, before, after, fc, self.p.Omega * self.t + self.p.phi,
-                                        e_new - self.energy)
-        self.work_in += work
-        self.viscous += viscous
+        if book is None:
+            self.work_in += e_new - self.energy
+        else:
+            work, viscous = book(seg, tau, before, after, fc, self.p.Omega * self.t + self.p.phi, e_new - self.energy)
+            self.work_in += work
+            self.viscous += viscous
         self.energy = e_new
         self.t = t_new
 

@@ -62,7 +62,7 @@ class _Displacements:
 class LinearModel(_Displacements):
     """The paper's model: two independent undamped oscillators (segments.py)."""
 
-    damped = False
+    work = None  # no dashpots: the work of the loads is the energy change (see Damper._move)
 
     def __init__(self, p):
         self.p = p
@@ -96,15 +96,9 @@ class LinearModel(_Displacements):
         p = self.p
         return accel + p.w1 * p.w1 * (x - side * p.d) + ground
 
-    def work(self, seg, tau, before, after, fc, psi, e_change):
-        """(work of the applied loads, viscous loss) [J] over seg up to tau."""
-        return e_change, 0.0
-
 
 class ModalModel(_Displacements):
     """Damped or coupled level: closed form by modes (modal.py, modal_segments.py)."""
-
-    damped = True
 
     def __init__(self, p):
         self.p = p
@@ -133,23 +127,27 @@ class ModalModel(_Displacements):
 
     def stick(self, x, v, side, fc, psi, T):
         p = self.p
-        q = 1.0 + p.mu
         ww1 = p.w1 * p.w1
-        fx, fy = fc
+        fy = fc[1]
+        b = self._ride_load(side, fc[0], fy)
         if self.coupled:
-            b = (fx + p.mu * fy) / q
             contact = (-self.ks, -self.cs1, b - ww1 * side * p.d - fy)
         else:
-            b = (p.mu * ww1 * side * p.d + fx + p.mu * fy) / q
             contact = (ww1 - self.ks, self.cp - self.cs1, b - ww1 * side * p.d - fy)
-        return ModalStick(self.ride, x, v, side, p.d, b, p.F0 / p.M / q, p.Omega, psi, T, contact)
+        return ModalStick(self.ride, x, v, side, p.d, b, p.F0 / p.M / (1.0 + p.mu), p.Omega, psi, T, contact)
+
+    def _ride_load(self, side, fx, fy):
+        """Held load per mass [m/s2] of the pair riding stop `side` (its 1-DOF equation's b)."""
+        p = self.p
+        held = fx + p.mu * fy if self.coupled else p.mu * p.w1 * p.w1 * side * p.d + fx + p.mu * fy
+        return held / (1.0 + p.mu)
 
     def energy(self, x, v, y, u):
         p = self.p
         if self.coupled:
             r = y - x
             return 0.5 * p.M * (v * v + (1.0 + p.mu) * p.w2 * p.w2 * x * x) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
-        return 0.5 * p.M * (v * v + p.w2 * p.w2 * x * x) + 0.5 * p.m * (u * u + p.w1 * p.w1 * y * y)
+        return LinearModel.energy(self, x, v, y, u)
 
     def particle_swing(self, x, v, y, u):
         return (y - x, u - v) if self.coupled else (y, u)
@@ -161,11 +159,7 @@ class ModalModel(_Displacements):
         return f - ground - K[0][0] * x - K[0][1] * y - C[0][0] * v - C[0][1] * u
 
     def _ride_accel(self, x, v, side, f, ground):
-        p = self.p
-        q = 1.0 + p.mu
-        fx, fy = f - ground, -ground
-        b = (fx + p.mu * fy) / q if self.coupled else (p.mu * p.w1 * p.w1 * side * p.d + fx + p.mu * fy) / q
-        return b - self.ks * x - self.cs1 * v
+        return self._ride_load(side, f - ground, -ground) - self.ks * x - self.cs1 * v
 
     def _contact(self, x, v, side, accel, ground):
         p = self.p

@@ -140,15 +140,13 @@ class Modes:
 class Motion:
     """One segment of q'' + C q' + K q = b + f sin(Omega tau + psi) from z0 = (q0, q0')."""
 
-    __slots__ = ("modes", "n", "coef", "const", "gp", "gm", "om", "forced", "b", "f", "psi", "z0")
+    __slots__ = ("modes", "coef", "const", "gp", "gm", "om", "forced", "psi")
 
     def __init__(self, modes, z0, b, f=None, om=0.0, psi=0.0):
         self.modes = modes
-        n = self.n = modes.n
-        self.z0 = z0
-        self.b, self.om, self.psi = b, om, psi
-        self.forced = f is not None and any(fi != 0.0 for fi in f) and om >= 0.0
-        self.f = f if self.forced else None
+        n = modes.n
+        self.om, self.psi = om, psi
+        self.forced = f is not None and any(fi != 0.0 for fi in f)
         self.coef, self.const, self.gp, self.gm = [], [], [], []
         eip = cmath.exp(1j * psi)
         for lam, w in zip(modes.lam, modes.W):

@@ -21,14 +21,13 @@ class ModalFlight:
     """Both bodies free; z = (x, y, v, u) follows the 2-DOF system of the level."""
 
     reach = math.inf  # the closed form holds over the whole span
-    __slots__ = ("motion", "K", "C", "b", "f", "om", "D", "bounds", "noise", "growth", "clear", "sgn")
+    __slots__ = ("motion", "K", "C", "b", "f", "om", "D", "bounds", "noise", "growth", "clear")
 
     def __init__(self, system, z0, b, a, om, psi, T, D, always_bound=False):
         modes, K, C = system
         f = (a, 0.0) if a != 0.0 else None
         self.motion = motion = Motion(modes, z0, b, f, om, psi)
         self.K, self.C, self.b, self.f, self.om, self.D = K, C, b, a, om, D
-        self.sgn = 0
         self.growth = max(modes.fastest, om)
         B = motion.bounds(T, _ORDERS)
         rest = motion.rest()

@@ -77,9 +77,9 @@ class _Step:
         return [poly_eval(c, th) for c in self.poly]
 
     def _guard_bounds(self, guards, scale):
-        """bounds, noise, clear from polynomials through the guards at the Chebyshev points."""
+        """bounds, noise, clear from polynomials through the guards g(tau, state) at the Chebyshev points."""
         h = self.h
-        polys = [_power_basis([g(self.state(x * h)) for x in _NODES]) for g in guards]
+        polys = [_power_basis([g(x * h, self.state(x * h)) for x in _NODES]) for g in guards]
         self.gpoly = polys
         self.bounds = tuple(_PAD * max(poly_deriv_bound(c, j, h) for c in polys) for j in (2, 3, 4))
         b1 = max(poly_deriv_bound(c, 1, h) for c in polys)
@@ -104,23 +104,17 @@ class NonlinearFlight(_Step):
         self._guard_bounds((self._g0, self._g1), p.d + p.L1)
 
     def rhs(self, tau, s):
-        th, dth, ph, dph = s[0], s[1], s[2], s[3]
         m = self.m
-        mu, L1, L2, g = m.mu, m.L1, m.L2, m.g
-        ct, st, cf, sf = math.cos(th), math.sin(th), math.cos(ph), math.sin(ph)
-        c, sn = math.cos(th - ph), math.sin(th - ph)
-        vb, vr = L2 * ct * dth, L1 * cf * dph
-        load = self.fx + (m.a * math.sin(m.om * tau + self.psi) if m.a else 0.0)
-        r1 = ct * (load + mu * self.fy - m.cs * vb) - mu * L1 * sn * dph * dph - (1.0 + mu) * g * st
-        r2 = cf * (self.fy - m.cp * vr) + L2 * sn * dth * dth - g * sf
-        det = 1.0 + mu * sn * sn
-        return [dth, (r1 - mu * c * r2) / (L2 * det), dph, ((1.0 + mu) * r2 - c * r1) / (L1 * det),
-                (load - self.fx) * vb, m.cs * vb * vb + mu * m.cp * vr * vr]
+        th, dth, ph, dph = s[0], s[1], s[2], s[3]
+        load = m.load(self.fx, tau, self.psi)
+        acc_th, acc_ph = m.free_accel(th, dth, ph, dph, load, self.fy)
+        vb, vr = m.L2 * math.cos(th) * dth, m.L1 * math.cos(ph) * dph
+        return [dth, acc_th, dph, acc_ph, (load - self.fx) * vb, m.cs * vb * vb + m.mu * m.cp * vr * vr]
 
-    def _g0(self, s):
+    def _g0(self, tau, s):
         return self.D + self.L1 * math.sin(s[2])  # D - z, z = -L1 sin(phi)
 
-    def _g1(self, s):
+    def _g1(self, tau, s):
         return self.D - self.L1 * math.sin(s[2])
 
     def positions(self, tau):
@@ -146,52 +140,28 @@ class NonlinearStick(_Step):
     def __init__(self, model, x, v, phi_s, sgn, fc, psi, T):
         self.m, self.fx, self.fy, self.psi = model, fc[0], fc[1], psi
         self.phi, self.sgn = phi_s, sgn
-        self.cf, self.sf = math.cos(phi_s), math.sin(phi_s)
         self._integrate(model, [x, v, 0.0, 0.0], T)
         p = model.p
         self._guard_bounds((self._guard,), p.g + abs(self.fy) + abs(self.fx) + abs(model.a))
 
     def rhs(self, tau, s):
-        th, dth = s[0], s[1]
-        m = self.m
-        ct = math.cos(th)
-        vb = m.L2 * ct * dth
-        load = self.fx + (m.a * math.sin(m.om * tau + self.psi) if m.a else 0.0)
-        acc = (ct * (load + m.mu * self.fy - m.cs * vb) / (1.0 + m.mu) - m.g * math.sin(th)) / m.L2
-        return [dth, acc, (load - self.fx) * vb, m.cs * vb * vb]
-
-    def contact(self, tau, s):
-        """N/m [m/s2] at tau for state s."""
         m = self.m
         th, dth = s[0], s[1]
-        acc = self.rhs(tau, s)[1]
-        c, sn = math.cos(th - self.phi), math.sin(th - self.phi)
-        return (m.L2 * (c * acc - sn * dth * dth) + m.g * self.sf) / self.cf - self.fy
+        load = m.load(self.fx, tau, self.psi)
+        vb = m.L2 * math.cos(th) * dth
+        return [dth, m.ride_accel(th, dth, load, self.fy), (load - self.fx) * vb, m.cs * vb * vb]
 
-    def _guard(self, s):
-        return self.sgn * self.contact(self._tau, s)
-
-    def _guard_bounds(self, guards, scale):
-        h = self.h
-        vals = []
-        for x in _NODES:
-            self._tau = x * h
-            vals.append(self._guard(self.state(x * h)))
-        self.gpoly = [_power_basis(vals)]
-        self.bounds = tuple(_PAD * poly_deriv_bound(self.gpoly[0], j, h) for j in (2, 3, 4))
-        b1 = poly_deriv_bound(self.gpoly[0], 1, h)
-        self.noise = (NOISE * scale, NOISE * b1, NOISE * self.bounds[0], NOISE * self.bounds[1])
-        self.growth = 0.0
-        c = self.gpoly[0]
-        self.clear = c[0] - sum(abs(x) for x in c[1:]) > 2.0 * self.noise[0]
+    def _guard(self, tau, s):
+        m = self.m
+        load = m.load(self.fx, tau, self.psi)
+        return self.sgn * m.contact(s[0], s[1], self.phi, m.ride_accel(s[0], s[1], load, self.fy), self.fy)
 
     def positions(self, tau):
         s = self.state(tau)
         return s[0], s[1], self.phi, 0.0
 
     def values(self, tau):
-        s = self.state(tau)
-        g = self.sgn * self.contact(tau, s)
+        g = self._guard(tau, self.state(tau))
         _, g1, _, _ = poly_derivs(self.gpoly[0], min(tau / self.h, 1.0), self.h)
         return g, g1
 
@@ -204,8 +174,6 @@ class NonlinearStick(_Step):
 class NonlinearModel:
     """Level model (see levels.py for the protocol) of the double pendulum at any angle."""
 
-    damped = True
-
     def __init__(self, p):
         self.p = p
         self.mu, self.L1, self.L2, self.g = p.mu, p.L1, p.L2, p.g
@@ -213,6 +181,32 @@ class NonlinearModel:
         self.a, self.om = p.F0 / p.M, p.Omega
         self.fastest = max(p.w1, p.w2, p.Omega) * math.sqrt(1.0 + p.mu)
         self.hint = 0.05 / self.fastest
+
+    def load(self, fx, tau, psi):
+        """Horizontal load per primary mass [m/s2]: held fx plus the built-in harmonic at tau."""
+        return fx + self.a * math.sin(self.om * tau + psi) if self.a else fx
+
+    def free_accel(self, th, dth, ph, dph, load, fy):
+        """(theta'', phi'') of the free double pendulum (the equations of the module doc)."""
+        mu, L1, L2, g = self.mu, self.L1, self.L2, self.g
+        ct, cf = math.cos(th), math.cos(ph)
+        c, sn = math.cos(th - ph), math.sin(th - ph)
+        vb, vr = L2 * ct * dth, L1 * cf * dph
+        r1 = ct * (load + mu * fy - self.cs * vb) - mu * L1 * sn * dph * dph - (1.0 + mu) * g * math.sin(th)
+        r2 = cf * (fy - self.cp * vr) + L2 * sn * dth * dth - g * math.sin(ph)
+        det = 1.0 + mu * sn * sn
+        return (r1 - mu * c * r2) / (L2 * det), ((1.0 + mu) * r2 - c * r1) / (L1 * det)
+
+    def ride_accel(self, th, dth, load, fy):
+        """theta'' while the particle rides a stop (phi fixed)."""
+        ct = math.cos(th)
+        vb = self.L2 * ct * dth
+        return (ct * (load + self.mu * fy - self.cs * vb) / (1.0 + self.mu) - self.g * math.sin(th)) / self.L2
+
+    def contact(self, th, dth, phi, acc, fy):
+        """N/m [m/s2] of the stop on the particle riding at wire angle phi, theta'' = acc."""
+        c, sn = math.cos(th - phi), math.sin(th - phi)
+        return (self.L2 * (c * acc - sn * dth * dth) + self.g * math.sin(phi)) / math.cos(phi) - fy
 
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
         return NonlinearFlight(self, x, v, y, u, fc, psi, T)
@@ -241,15 +235,7 @@ class NonlinearModel:
 
     def acceleration(self, x, v, y, u, side, f, ground):
         """Horizontal acceleration of the primary bob [m/s2]."""
-        fc = (f - ground, -ground)
-        if side:
-            seg = NonlinearStick.__new__(NonlinearStick)
-            seg.m, seg.fx, seg.fy, seg.psi = self, fc[0], fc[1], 0.0
-            dd = seg.rhs(0.0, [x, v, 0.0, 0.0])[1]
-        else:
-            seg = NonlinearFlight.__new__(NonlinearFlight)
-            seg.m, seg.fx, seg.fy, seg.psi = self, fc[0], fc[1], 0.0
-            dd = seg.rhs(0.0, [x, v, y, u, 0.0, 0.0])[1]
+        dd = self.ride_accel(x, v, f - ground, -ground) if side else self.free_accel(x, v, y, u, f - ground, -ground)[0]
         return self.L2 * (math.cos(x) * dd - math.sin(x) * v * v)
 
     def from_angles(self, theta, theta_dot, alpha, alpha_dot):
@@ -259,11 +245,7 @@ class NonlinearModel:
         return self.L1 * y, self.L1 * u
 
     def contact_accel(self, x, v, side, f, ground):
-        seg = NonlinearStick.__new__(NonlinearStick)
-        seg.m, seg.fx, seg.fy, seg.psi = self, f - ground, -ground, 0.0
-        seg.phi = self._phi_stop(side)
-        seg.cf, seg.sf = math.cos(seg.phi), math.sin(seg.phi)
-        return seg.contact(0.0, [x, v, 0.0, 0.0])
+        return self.contact(x, v, self._phi_stop(side), self.ride_accel(x, v, f - ground, -ground), -ground)
 
     def work(self, seg, tau, before, after, fc, psi, e_change):
         p = self.p
