@@ -81,14 +81,19 @@ def test_instantiate_free_cycles_do_not_grow_memory(fmu_path, unzipped):
         cycle()
     # an instance and its core reference each other (the impact callback), so a freed instance
     # waits for the cyclic collector: collect before each reading, so only what cannot be
-    # reclaimed counts (without it the readings swing by ~2.5 MB with the collector's timing)
+    # reclaimed counts.  The allocator's high-water mark still moves once by a few MB depending
+    # on what ran before in the process, so the leak is read as the growth of the second
+    # 500 cycles (5 KB per cycle is the bar, as before)
+    readings = []
+    for _ in range(3):
+        gc.collect()
+        readings.append(_rss_mb())
+        for _ in range(500):
+            cycle()
     gc.collect()
-    before = _rss_mb()
-    for _ in range(1000):
-        cycle()
-    gc.collect()
-    growth = _rss_mb() - before
-    assert growth < 5.0, f"RSS grew by {growth:.1f} MB over 1000 cycles"
+    readings.append(_rss_mb())
+    growth = 2 * (readings[-1] - readings[-2])  # per 1000 cycles
+    assert growth < 5.0, f"RSS grew at {growth:.1f} MB per 1000 cycles (readings {readings} MB)"
 
 
 CHILD = """
