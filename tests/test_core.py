@@ -308,3 +308,23 @@ def test_dense_output_equals_stepping_to_each_time():
         b.advance(t)
         assert row == pytest.approx((b.x, b.v, b.y, b.u), abs=1e-12)
     assert a.impacts == b.impacts > 50 and a.t == b.t
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("t0", [1e6, 1e12])
+def test_motion_does_not_depend_on_the_start_time(t0):
+    """Unforced motion is invariant under a time shift.  At t0 = 1e12 s one ulp of the clock is
+    1.2e-4 s, so most chatter impacts lie within one ulp of the current time: the state must still
+    move to each of them (no stall) and end where the same run from t0 = 0 ends."""
+    runs = []
+    for start in (0.0, t0):
+        dm = Damper(Params(mu=0.1, FR=5.0, d=0.1, e=0.2), theta_dot0=0.7 * W2, t0=start)
+        sticks = 0
+        for k in range(1, 2001):
+            dm.advance(start + k * 0.01)
+            sticks += dm.contact != 0
+        assert dm.t == start + 20.0
+        runs.append((dm.impacts, sticks, dm.x, dm.v, dm.y, dm.u, dm.dissipated))
+    (n0, s0, *z0, d0), (n1, s1, *z1, d1) = runs
+    assert n1 == n0 > 200 and s1 == s0 > 100
+    assert z1 == pytest.approx(z0, abs=1e-12) and d1 == pytest.approx(d0, rel=1e-12)

@@ -38,7 +38,7 @@ OUTSIDE = 2  # angle form: the bodies have passed through stop `side`
 
 CHATTER_HEIGHT = 16.0  # rebound apex, in position-rounding units, below which chatter collapses
 
-STATE_KEYS = ("t", "x", "v", "y", "u", "mode", "side", "fresh", "impacts", "dissipated",
+STATE_KEYS = ("t", "t_lo", "x", "v", "y", "u", "mode", "side", "fresh", "impacts", "dissipated",
               "work_in", "viscous", "energy")
 
 
@@ -53,6 +53,7 @@ class Damper:
                           ("alpha_dot_0", alpha_dot0), ("start time", t0)):
             check_finite(name, val)
         self.t = float(t0)
+        self.t_lo = 0.0  # the state's time is t + t_lo exactly: t_lo keeps what rounding t dropped
         self.x, self.v, self.y, self.u = self.model.from_angles(theta0, theta_dot0, alpha0, alpha_dot0)
         x, _, y, _ = self.displacements()
         gap = p.cx * x - p.cy * y
@@ -92,24 +93,21 @@ class Damper:
         fc = (force / self.p.M - ground, -ground)  # loads per mass on the primary and the particle
         ready = None  # a flight segment already built at the current state by the last event
         while self.t < t_end:
-            horizon = t_end - self.t
+            horizon = (t_end - self.t) - self.t_lo
+            if horizon <= 0.0:  # the state is already at t_end; the clock catches up
+                self.t, self.t_lo = t_end, self.t_lo + (self.t - t_end)
+                break
             span = min(horizon, self._max_span)
             seg = ready or self._segment(fc, span)
             if seg.reach < span:  # an integrator step (nonlinear level) ends before the span
                 span = seg.reach
             event = locate(seg, span, self.fresh)
             if event is None:
-                t_new = t_end if span == horizon else self.t + span
-                if observe is not None:
-                    observe(seg, self.t, t_new)
-                self._move(seg, span, t_new, fc)
+                self._move(seg, span, t_end if span == horizon else None, fc, observe)
                 ready = None
                 continue
             tau, kind, guard = event
-            t_new = t_end if tau >= horizon else self.t + tau
-            if observe is not None:
-                observe(seg, self.t, t_new)
-            self._move(seg, tau, t_new, fc)
+            self._move(seg, tau, t_end if tau >= horizon else None, fc, observe)
             ready = self._handle(kind, 1 - 2 * guard, fc, min(t_end - self.t, self._max_span))
 
     def dense(self, times, force=0.0, ground=0.0):
@@ -156,7 +154,7 @@ class Damper:
         """Primary acceleration [m/s2] (relative to the ground) under held force `force` [N] and
         ground acceleration `ground` [m/s2]."""
         p = self.p
-        f = force / p.M + p.F0 / p.M * math.sin(p.Omega * self.t + p.phi)
+        f = force / p.M + p.F0 / p.M * math.sin(self._phase())
         return self.model.acceleration(self.x, self.v, self.y, self.u, self.contact, f, ground)
 
     def contact_force(self, force=0.0, ground=0.0):
@@ -164,7 +162,7 @@ class Damper:
         if self.mode != STICK:
             return 0.0
         p = self.p
-        f = force / p.M + p.F0 / p.M * math.sin(p.Omega * self.t + p.phi)
+        f = force / p.M + p.F0 / p.M * math.sin(self._phase())
         return p.m * self.model.contact_accel(self.x, self.v, self.side, f, ground)
 
     def get_state(self):
@@ -175,7 +173,7 @@ class Damper:
 
     def set_state(self, state):
         for k in STATE_KEYS:
-            setattr(self, k, state[k])
+            setattr(self, k, state.get(k, 0.0) if k == "t_lo" else state[k])
         if hasattr(self.model, "hint"):
             self.model.hint = state["step_hint"]
 
@@ -186,7 +184,8 @@ class Damper:
 
     def _segment(self, fc, horizon):
         """The segment from the current state and mode; fc = (loads per mass on primary, particle)."""
-        psi = self.p.Omega * self.t + self.p.phi
+        p = self.p
+        psi = p.Omega * self.t + p.phi + p.Omega * self.t_lo  # self._phase(), inline: once per segment
         model = self.model
         if self.mode == STICK:
             return model.stick(self.x, self.v, self.side, fc, psi, horizon)
@@ -194,9 +193,26 @@ class Damper:
             return model.outside(self.x, self.v, self.y, self.u, fc, psi, horizon, self.side)
         return model.flight(self.x, self.v, self.y, self.u, fc, psi, horizon)
 
-    def _move(self, seg, tau, t_new, fc):
-        """Take the state at tau of the segment and book the work of the loads and the dashpots
-        (a level without dashpots, work = None, books the energy change as the work)."""
+    def _move(self, seg, tau, t_end, fc, observe):
+        """Take the state at tau of the segment, tick the clock by tau (t_end: the piece ends
+        there) and book the work of the loads and the dashpots (a level without dashpots,
+        work = None, books the energy change as the work).
+
+        The clock is t + t_lo: t is t + tau rounded (or t_end) and t_lo keeps the rounding
+        error (two-sum), so a forcing phase tied to the clock does not drift over long runs,
+        and a tau below one ulp of t still moves the state."""
+        t = self.t
+        s = t + tau
+        b = s - t
+        lo = self.t_lo + ((t - (s - b)) + (tau - b))
+        if t_end is None:
+            t_new = s + lo  # renormalised: |t_lo| stays within half an ulp of t
+            lo -= t_new - s
+        else:
+            t_new = t_end
+            lo += s - t_end
+        if observe is not None:
+            observe(seg, t, t_new)
         book = self.model.work
         before = (self.x, self.v, self.y, self.u) if book is not None else None
         self.x, self.v, self.y, self.u = after = seg.positions(tau)
@@ -206,11 +222,16 @@ class Damper:
         if book is None:
             self.work_in += e_new - self.energy
         else:
-            work, viscous = book(seg, tau, before, after, fc, self.p.Omega * self.t + self.p.phi, e_new - self.energy)
+            work, viscous = book(seg, tau, before, after, fc, self._phase(), e_new - self.energy)
             self.work_in += work
             self.viscous += viscous
         self.energy = e_new
-        self.t = t_new
+        self.t, self.t_lo = t_new, lo
+
+    def _phase(self):
+        """Phase [rad] of the built-in harmonic force at the state's time."""
+        p = self.p
+        return p.Omega * self.t + p.phi + p.Omega * self.t_lo
 
     def _switch(self, mode, side):
         self.mode, self.side, self.fresh = mode, side, True
@@ -224,7 +245,7 @@ class Damper:
         self._snap(side)
         if kind == CROSS:
             self._impact(side)
-        seg = self.model.flight(self.x, self.v, self.y, self.u, fc, self.p.Omega * self.t + self.p.phi, span,
+        seg = self.model.flight(self.x, self.v, self.y, self.u, fc, self._phase(), span,
                                 always_bound=True)
         mode = self._after_contact(seg, side, kind == CROSS)
         self._switch(mode, 0 if mode == FREE else side)
