@@ -21,7 +21,7 @@ from foxglove.messages import (Color, CubePrimitive, FrameTransform, FrameTransf
 from mcap.stream_reader import StreamReader
 from mcap.records import Channel, Message, Metadata
 
-from .records import IMPACT_DTYPE, IMPACT_FIELDS, STATE_DTYPE, STATE_FIELDS, to_ns
+from .records import IMPACT_DTYPE, IMPACT_FIELDS, STATE_DTYPE, STATE_FIELDS, frames, stop_height, to_ns
 
 METADATA_NAME = "pidamper.run"
 TOPICS = ("/damper/state", "/damper/impacts", "/run/info", "/run/notes", "/log", "/tf", "/scene")
@@ -97,17 +97,8 @@ class McapLog:
         if "/damper/state" in topics:
             for ns, payload in zip(times, _json_rows(states, STATE_FIELDS)):
                 self.state.log(payload, log_time=ns)
-        L1 = self.geometry["L1"]
-        L2 = self.geometry["L2"]
-        for ns, theta, alpha in (zip(times, states["theta"].tolist(), states["alpha"].tolist())
-                                 if "/tf" in topics else ()):
-            stamp = _stamp(ns)
-            self.tf.log(FrameTransforms(transforms=[
-                FrameTransform(timestamp=stamp, parent_frame_id="world", child_frame_id="primary",
-                               translation=Vector3(x=0.0, y=0.0, z=L2), rotation=_axis_angle(theta)),
-                FrameTransform(timestamp=stamp, parent_frame_id="world", child_frame_id="particle",
-                               translation=Vector3(x=0.0, y=0.0, z=L1), rotation=_axis_angle(alpha)),
-            ]), log_time=ns)
+        if "/tf" in topics:
+            self._write_frames(times, states)
         impact_ns = to_ns(impacts["t"]).tolist()
         for ns, payload, row in zip(impact_ns, _json_rows(impacts, IMPACT_FIELDS), impacts.tolist()):
             if "/damper/impacts" in topics:
@@ -115,6 +106,24 @@ class McapLog:
             if "/log" in topics:
                 self.log.log(Log(timestamp=_stamp(ns), level=LogLevel.Info, message=impact_text(row),
                                  name="pidamper"), log_time=ns)
+
+    def _write_frames(self, times, states):
+        """The pendulum's frames (records.frames): each body turns about its pivot; the stops
+        ride on the primary's bob without turning."""
+        theta, alpha, pivot, carrier = frames(self.geometry, states)
+        top = Vector3(x=0.0, y=0.0, z=self.geometry["L2"])
+        level = Quaternion(x=0.0, y=0.0, z=0.0, w=1.0)
+        for ns, theta, alpha, (px, _, pz), (cx, _, cz) in zip(times, theta.tolist(), alpha.tolist(),
+                                                             pivot.tolist(), carrier.tolist()):
+            stamp = _stamp(ns)
+            self.tf.log(FrameTransforms(transforms=[
+                FrameTransform(timestamp=stamp, parent_frame_id="world", child_frame_id="primary",
+                               translation=top, rotation=_axis_angle(theta)),
+                FrameTransform(timestamp=stamp, parent_frame_id="world", child_frame_id="particle",
+                               translation=Vector3(x=px, y=0.0, z=pz), rotation=_axis_angle(alpha)),
+                FrameTransform(timestamp=stamp, parent_frame_id="world", child_frame_id="stops",
+                               translation=Vector3(x=cx, y=0.0, z=cz), rotation=level),
+            ]), log_time=ns)
 
     def note(self, t, level, text):
         ns = int(to_ns(t))
@@ -135,21 +144,22 @@ class McapLog:
         L1, L2, c = g["L1"], g["L2"], g["clearance"]
         rod = Color(r=0.6, g=0.6, b=0.6, a=1.0)
 
-        def pendulum(frame, length, colour, extra=()):
+        def pendulum(frame, length, colour):
             return SceneEntity(
                 timestamp=_stamp(t0), frame_id=frame, id=frame,
                 lines=[LinePrimitive(points=[Point3(x=0, y=0, z=0), Point3(x=0, y=0, z=-length)], thickness=0.01,
                                      scale_invariant=False, color=rod)],
                 spheres=[SpherePrimitive(pose=Pose(position=Vector3(x=0, y=0, z=-length),
                                                    orientation=Quaternion(x=0, y=0, z=0, w=1)),
-                                         size=Vector3(x=0.05, y=0.05, z=0.05), color=colour)],
-                cubes=list(extra))
+                                         size=Vector3(x=0.05, y=0.05, z=0.05), color=colour)])
 
-        stops = [CubePrimitive(pose=Pose(position=Vector3(x=s * c, y=0, z=-L2), orientation=Quaternion(x=0, y=0, z=0, w=1)),
-                               size=Vector3(x=0.005, y=0.08, z=0.08), color=Color(r=0.9, g=0.3, b=0.2, a=0.8))
-                 for s in (-1.0, 1.0)]
-        return SceneUpdate(entities=[pendulum("primary", L2, Color(r=0.2, g=0.4, b=0.9, a=1.0), stops),
-                                     pendulum("particle", L1, Color(r=0.95, g=0.7, b=0.1, a=1.0))])
+        height = stop_height(g)
+        stops = SceneEntity(timestamp=_stamp(t0), frame_id="stops", id="stops", cubes=[
+            CubePrimitive(pose=Pose(position=Vector3(x=s * c, y=0, z=height), orientation=Quaternion(x=0, y=0, z=0, w=1)),
+                          size=Vector3(x=0.005, y=0.08, z=0.08), color=Color(r=0.9, g=0.3, b=0.2, a=0.8))
+            for s in (-1.0, 1.0)])
+        return SceneUpdate(entities=[pendulum("primary", L2, Color(r=0.2, g=0.4, b=0.9, a=1.0)),
+                                     pendulum("particle", L1, Color(r=0.95, g=0.7, b=0.1, a=1.0)), stops])
 
 
 def impact_text(row):

@@ -72,10 +72,37 @@ def parameters(fmu_path, start_values):
 
 
 def geometry(start_values):
-    """Lengths [m] and stop offset for drawing: L2, L1 and the clearance as a distance."""
+    """What the 3D drawing needs: lengths L2, L1 [m], the clearance as a distance [m], w2
+    [rad/s] and the fidelity level (from coupled on the particle hangs from the primary's bob)."""
     g = float(start_values.get("g", 9.81))
     L2 = float(start_values.get("L2", 1.0))
     FR = float(start_values.get("FR", 5.0))
     angle_form = int(start_values.get("contact_form", 0)) == 1
     clearance = L2 * float(start_values.get("d_angle", 0.1)) if angle_form else float(start_values.get("d", 0.1))
-    return {"L2": L2, "L1": L2 / FR ** 2, "clearance": clearance, "w2": math.sqrt(g / L2)}
+    return {"L2": L2, "L1": L2 / FR ** 2, "clearance": clearance, "w2": math.sqrt(g / L2),
+            "fidelity": int(start_values.get("fidelity", 0))}
+
+
+def frames(geometry, states):
+    """The drawing of a block of states: (theta, alpha, pivot, carrier).  theta, alpha
+    [rad] turn the primary about its pivot at (0, 0, L2) (its bob hangs at the origin, world z
+    up) and the particle about `pivot` (n, 3) [m]: the primary's bob from coupled on, else
+    (0, 0, L1).  The stops sit at +-clearance about `carrier` (n, 3), the primary's bob, at
+    stop_height below it, without turning: the models' gap is horizontal.  The small-angle levels
+    are drawn at their horizontal positions x, y [m] (angles asin(x / L2), ...), so a particle
+    on a stop is drawn touching it; the nonlinear level at its own angles."""
+    L1, L2, level = geometry["L1"], geometry["L2"], geometry.get("fidelity", 0)
+    if level >= 3:
+        theta, alpha = states["theta"], states["alpha"]
+    else:
+        x, y = states["x"], states["y"]
+        theta = np.arcsin(np.clip(x / L2, -1.0, 1.0))
+        alpha = np.arcsin(np.clip(((y - x) if level == 2 else y) / L1, -1.0, 1.0))
+    carrier = np.stack([L2 * np.sin(theta), np.zeros_like(theta), L2 * (1.0 - np.cos(theta))], axis=-1)
+    pivot = carrier if level >= 2 else np.tile([0.0, 0.0, L1], (len(theta), 1))
+    return theta, alpha, pivot, carrier
+
+
+def stop_height(geometry):
+    """Height [m] of the stops in their carrier frame: at the hanging particle's bob."""
+    return -geometry["L1"] if geometry.get("fidelity", 0) >= 2 else 0.0

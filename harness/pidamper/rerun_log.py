@@ -13,7 +13,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from .mcap_log import impact_text
-from .records import to_ns
+from .records import frames, stop_height, to_ns
 
 TIMELINE = "sim_time"
 
@@ -103,8 +103,9 @@ def log_start(rec, info):
     L1, L2, c = g["L1"], g["L2"], g["clearance"]
     rec.log("pendulum/primary/rod", rr.LineStrips3D([[[0, 0, 0], [0, 0, -L2]]], colors=[(150, 150, 150)]), static=True)
     rec.log("pendulum/primary/bob", rr.Points3D([[0, 0, -L2]], radii=[0.03], colors=[(40, 100, 230)]), static=True)
-    rec.log("pendulum/primary/stops", rr.Boxes3D(centers=[[-c, 0, -L2], [c, 0, -L2]], half_sizes=[[0.003, 0.04, 0.04]] * 2,
-                                                 colors=[(230, 80, 50)]), static=True)
+    height = stop_height(g)
+    rec.log("pendulum/stops", rr.Boxes3D(centers=[[-c, 0, height], [c, 0, height]], half_sizes=[[0.003, 0.04, 0.04]] * 2,
+                                         colors=[(230, 80, 50)]), static=True)
     rec.log("pendulum/particle/rod", rr.LineStrips3D([[[0, 0, 0], [0, 0, -L1]]], colors=[(150, 150, 150)]), static=True)
     rec.log("pendulum/particle/bob", rr.Points3D([[0, 0, -L1]], radii=[0.02], colors=[(240, 170, 20)]), static=True)
 
@@ -116,16 +117,8 @@ def log_block(rec, info, states, impacts):
         times = [rr.TimeColumn(TIMELINE, duration=to_ns(states["time"]).astype("timedelta64[ns]"))]
         for entity, field, _ in series(views):
             rec.send_columns(entity, indexes=times, columns=rr.Scalars.columns(scalars=states[field].astype(np.float64)))
-        g = info["geometry"]
-        n = len(states)
-        for entity, field, height in ((("pendulum/primary", "theta", g["L2"]), ("pendulum/particle", "alpha", g["L1"]))
-                                      if "pendulum" in views else ()):
-            half = 0.5 * states[field]
-            quaternion = np.zeros((n, 4))  # xyzw: rotation by the angle about -y (bob swings to +x)
-            quaternion[:, 1] = -np.sin(half)
-            quaternion[:, 3] = np.cos(half)
-            rec.send_columns(entity, indexes=times, columns=rr.Transform3D.columns(
-                translation=np.tile([0.0, 0.0, height], (n, 1)), quaternion=quaternion))
+        if "pendulum" in views:
+            _log_frames(rec, times, info["geometry"], states)
     if len(impacts):
         times = [rr.TimeColumn(TIMELINE, duration=to_ns(impacts["t"]).astype("timedelta64[ns]"))]
         if "angles" in views:
@@ -133,6 +126,20 @@ def log_block(rec, info, states, impacts):
         if "events" in views:
             rec.send_columns("events", indexes=times, columns=rr.TextLog.columns(
                 text=[impact_text(row) for row in impacts.tolist()], level=["INFO"] * len(impacts)))
+
+
+def _log_frames(rec, times, g, states):
+    """The pendulum's moving frames (records.frames): each body turns about its pivot; the
+    stops ride on the primary's bob."""
+    theta, alpha, pivot, carrier = frames(g, states)
+    for entity, angle, origin in (("pendulum/primary", theta, np.tile([0.0, 0.0, g["L2"]], (len(states), 1))),
+                                  ("pendulum/particle", alpha, pivot)):
+        half = 0.5 * angle
+        quaternion = np.zeros((len(states), 4))  # xyzw: rotation by the angle about -y (bob swings to +x)
+        quaternion[:, 1] = -np.sin(half)
+        quaternion[:, 3] = np.cos(half)
+        rec.send_columns(entity, indexes=times, columns=rr.Transform3D.columns(translation=origin, quaternion=quaternion))
+    rec.send_columns("pendulum/stops", indexes=times, columns=rr.Transform3D.columns(translation=carrier))
 
 
 def log_note(rec, t, level, text):
