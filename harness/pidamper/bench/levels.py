@@ -97,7 +97,7 @@ def measure(amplitudes=AMPLITUDES, repeats=3, fmu=None):
     return rows
 
 
-def write(rows, out):
+def write(rows, out, repeats=3):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "levels.csv", "w", newline="") as fh:
@@ -106,7 +106,7 @@ def write(rows, out):
         w.writerows(rows)
     _plot(rows, out / "levels-error.png")
     lines = ["# Model error of each fidelity level against `nonlinear`, and its cost", "",
-             f"Machine: {machine()}. Command: `pidamper bench --levels` (module `pidamper.bench.levels`; "
+             f"Machine: {machine()}. Command: `pidamper bench --levels --repeats {repeats}` (module `pidamper.bench.levels`; "
              "the scene family is described in its docstring).", "",
              "CPU columns: best of the repeats, process time; core = the physics alone "
              "(`Damper.advance`), fmpy = the FMU's step loop under `fmpy.simulate_fmu` with its outputs "

@@ -349,7 +349,7 @@ def main(argv=None):
     if args.levels:
         from . import levels
         out = Path(args.out if args.out != "docs/bench" else "docs/levels")
-        levels.write(levels.measure(repeats=args.repeats), out)
+        levels.write(levels.measure(repeats=args.repeats), out, args.repeats)
         print(f"wrote {out}/levels.csv, README.md and levels-error.png")
         return 0
     chosen = [c for c in CASES if not args.case or c.name in args.case]
