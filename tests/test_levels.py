@@ -176,3 +176,19 @@ def test_each_level_through_the_fmu_equals_the_core(lockstep, level):
     assert lockstep(values, forcing.harmonic(0.05, W2, 0.0, True), 0.01, 400) > 3
     quake = forcing.kanai_tajimi(duration=4.0, dt=0.01, pga=2.0, seed=2)
     lockstep(values, quake, 0.01, 400)
+
+
+def test_bench_levels_writes_its_report(fmu_path, tmp_path):
+    """`pidamper bench --levels` at one amplitude: every level's FMU makes the core's impacts
+    (measure refuses otherwise), the report holds a row per level with the costs, and the
+    nonlinear level is its own reference."""
+    from pidamper.bench import levels
+
+    rows = levels.measure(amplitudes=(0.1,), repeats=1, fmu=fmu_path)
+    levels.write(rows, tmp_path, repeats=1)
+    assert [r["level"] for r in rows] == list(levels.LEVELS)
+    assert rows[-1]["theta_error"] == 0.0 and 1e-3 < rows[2]["theta_error"] < 1e-2  # coupled: 0.46 A^2
+    assert all(r["fmpy_us_per_step"] > 0 and r["us_per_step"] > 0 for r in rows)
+    report = (tmp_path / "README.md").read_text()
+    assert "--levels --repeats 1" in report and report.count("| 0.1 |") == 4
+    assert (tmp_path / "levels-error.png").stat().st_size > 0
