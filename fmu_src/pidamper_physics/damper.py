@@ -184,8 +184,7 @@ class Damper:
 
     def _segment(self, fc, horizon):
         """The segment from the current state and mode; fc = (loads per mass on primary, particle)."""
-        p = self.p
-        psi = p.Omega * self.t + p.phi + p.Omega * self.t_lo  # self._phase(), inline: once per segment
+        psi = self._phase()
         model = self.model
         if self.mode == STICK:
             return model.stick(self.x, self.v, self.side, fc, psi, horizon)

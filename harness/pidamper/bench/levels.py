@@ -39,8 +39,8 @@ def scene(level, amplitude, stops=True):
     stops=False moves the stops out of reach (the same motion without impacts)."""
     index = LEVELS.index(level)
     zeta = 0.02 if index > 0 else 0.0
-    params = {"FR": 2.0, "mu": 0.1, "e": 0.5, "d": 0.15 * amplitude if stops else 100.0, "fidelity": index, "zeta_s": zeta,
-              "zeta_p": zeta}
+    params = {"FR": 2.0, "mu": 0.1, "e": 0.5, "d": 0.15 * amplitude if stops else 100.0, "fidelity": index,
+              "zeta_s": zeta, "zeta_p": zeta}
     td = amplitude * W2
     return params, {"theta_dot_0": td, "alpha_dot_0": -td * params["FR"] ** 2 if index >= 2 else 0.0}  # L2/L1 = FR^2
 
