@@ -42,8 +42,8 @@ def source_hash():
 
     slave, physics = sources()
     digest = hashlib.sha256(pythonfmu.__version__.encode() + SHIM.encode())
-    for path in [slave] + _physics_files(physics):
-        rel = path.name if path == slave else path.relative_to(physics).as_posix()
+    for path in [slave, slave.with_name("fmi2_entry.c")] + _physics_files(physics):
+        rel = path.name if path.parent == slave.parent else path.relative_to(physics).as_posix()
         digest.update(rel.encode() + b"\0" + path.read_bytes() + b"\0")
     return digest.hexdigest()[:12]
 
@@ -64,7 +64,7 @@ def build(out_dir="dist"):
     reference result of its default experiment beside it; return the FMU's path."""
     from pythonfmu.builder import FmuBuilder
 
-    from . import documentation
+    from . import documentation, native
 
     slave, physics = sources()
     tag = source_hash()
@@ -92,4 +92,5 @@ def build(out_dir="dist"):
             documentation_folder=docs,
             needsExecutionTool=False, canHandleVariableCommunicationStepSize=True,
             canGetAndSetFMUstate=True, canSerializeFMUstate=True)
+    native.install(fmu)
     return Path(fmu)

@@ -107,15 +107,23 @@ first exceeds angle_limit the FMU logs a warning (fmi2Warning, once per run) wit
 linearisation at that swing, and at fmi2Terminate the largest swings of the run;</li>
 <li>the inputs F [N] (force on the primary) and a_g [m/s2] (ground acceleration under both pivots; x and y
 are measured from the ground) are held constant over each communication step (canInterpolateInputs = false);</li>
-<li>the model runs in the host's Python interpreter (3.8 or newer): a non-Python host must load libpython.</li></ul>
+<li>the model runs in Python: in the host's interpreter when the host process has one (fmpy, libcosimpy; 3.8
+or newer), else the FMU's native layer (binaries/linux64/PendulumImpactDamper.so) starts one by itself: the
+libpython named by PIDAMPER_LIBPYTHON, else the one the FMU was built with, else the system's of the same
+minor version, isolated from PYTHONPATH and PYTHONHOME; when none is found fmi2Instantiate says where it
+looked. The Windows binary is pythonfmu's own (not tested): the host needs Python on its PATH.</li>
+<li>the FMI 2.0 calling sequence is enforced: a call not allowed in the instance's state, on a variable of
+another type or on an unknown value reference answers fmi2Error with a logged message, as does any value
+the model refuses; fixed parameters set after initialization to their current value are accepted.</li></ul>
 <h2>Parameters</h2>
 <table border="1"><tr><th>name</th><th>unit</th><th>start</th><th>range</th><th>description</th></tr>
 {rows(parameters, True)}</table>
 <h2>Outputs</h2>
 <table border="1"><tr><th>name</th><th>unit</th><th>feedthrough</th><th>description</th></tr>
 {rows(outputs, False)}</table>
-<p>Besides these, impact[k].t, .side, .v_rel_before, .v_rel_after, .energy_lost, .theta (k = 1..16) record
-the impacts of the last communication step, with impacts_in_step and impacts_unrecorded.</p>
+<p>Local variables impact[k].t, .side, .v_rel_before, .v_rel_after, .energy_lost, .theta (k = 1..16) record
+the impacts of the last communication step (slots beyond impacts_in_step hold zeros); hosts do not record
+them by default, any host reads them by name after fmi2DoStep.</p>
 <h2>Default experiment</h2>
 <p>0 to 20 s, step 0.01 s, every parameter at its start value (free decay from theta_dot_0 = 0.5 rad/s).
 Result: PendulumImpactDamper_ref.csv.</p>

@@ -328,3 +328,25 @@ def test_motion_does_not_depend_on_the_start_time(t0):
     (n0, s0, *z0, d0), (n1, s1, *z1, d1) = runs
     assert n1 == n0 > 200 and s1 == s0 > 100
     assert z1 == pytest.approx(z0, abs=1e-12) and d1 == pytest.approx(d0, rel=1e-12)
+
+
+@pytest.mark.parametrize("fidelity", [0, 1, 2, 3])
+@pytest.mark.parametrize("side", [0, 1, -1])
+def test_observables_equal_the_separate_methods(fidelity, side):
+    """Damper.observables (the FMU's outputs in one call, inline for the linear level) gives the
+    values of angles, displacements, acceleration and contact_force to the last bit."""
+    from pidamper_physics.damper import STICK
+
+    extra = {"zeta_s": 0.02, "zeta_p": 0.03} if fidelity in (1, 2) else {}
+    for F0, force, ground in ((0.0, 0.3, 0.0), (0.2, -0.7, 1.3)):
+        params = Params(fidelity=fidelity, F0=F0, Omega=2.9, phi=0.4, d=0.05, FR=2.0, **extra)
+        core = Damper(params, 0.01, -0.02, 0.0, 0.3, t0=1.7)
+        core.x, core.v, core.y, core.u = 0.031, -0.12, 0.031 - 0.05 * side, 0.27
+        if side:
+            core.mode, core.side = STICK, side
+        theta, theta_dot, alpha, alpha_dot = core.angles()
+        x, _, y, _ = core.displacements()
+        expected = (theta, theta_dot, alpha, alpha_dot, x, y, core.acceleration(force, ground),
+                    core.contact_force(force, ground))
+        assert core.observables(force, ground) == expected
+        assert (expected[-1] != 0.0) == bool(side)

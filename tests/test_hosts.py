@@ -122,21 +122,31 @@ def _compile_host(tmp_path):
     return exe
 
 
-def _run_host(exe, fmu_path, tmp_path, libpython, home, steps=2000, h=0.01):
+def _unzipped(fmu_path, tmp_path):
     unzipped = tmp_path / "unzipped"
     if not unzipped.exists():
         with zipfile.ZipFile(fmu_path) as z:
             z.extractall(unzipped)
+    return unzipped
+
+
+def _run_host(exe, fmu_path, tmp_path, env, steps=2000, h=0.01, expect=0):
+    """(theta, impacts, stderr) of the C host run in `env` (nothing of this process's environment)."""
     md = fmpy.read_model_description(str(fmu_path))
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    env = {**os.environ, "LD_PRELOAD": str(libpython), "PYTHONHOME": str(home)}
-    env.pop("PYTHONPATH", None)
-    done = subprocess.run([str(exe), str(unzipped), md.guid, str(vr["theta_dot_0"]), repr(FREE["theta_dot_0"]),
-                           str(vr["theta"]), str(vr["impacts"]), str(steps), repr(h)],
+    done = subprocess.run([str(exe), str(_unzipped(fmu_path, tmp_path)), md.guid, str(vr["theta_dot_0"]),
+                           repr(FREE["theta_dot_0"]), str(vr["theta"]), str(vr["impacts"]), str(steps), repr(h)],
                           capture_output=True, text=True, env=env, timeout=120)
-    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.returncode == expect, done.stderr[-2000:]
+    if expect:
+        return None, None, done.stderr
     theta, impacts = done.stdout.split()
-    return float(theta), int(impacts)
+    return float(theta), int(impacts), done.stderr
+
+
+# what a native system simulator started from a desktop has: no Python variables, no LD_*
+PLAIN_ENV = {"PATH": "/usr/local/bin:/usr/bin:/bin", "HOME": str(Path.home()), "LANG": "C.UTF-8"}
+BUILD_LIBPYTHON = Path(sysconfig.get_config_var("LIBDIR")) / sysconfig.get_config_var("INSTSONAME")
 
 
 def _fmpy_reference(fmu_path, steps=2000, h=0.01):
@@ -148,13 +158,53 @@ def _fmpy_reference(fmu_path, steps=2000, h=0.01):
         return s.read()[0], s.get("impacts")
 
 
-def test_c_host_with_libpython_preloaded(fmu_path, tmp_path):
-    """A non-Python host: dlopen the FMU's .so, preload this interpreter's libpython."""
+def test_c_host_without_preload_finds_python_by_itself(fmu_path, tmp_path):
+    """dlopen(RTLD_NOW | RTLD_LOCAL) from a plain environment: the FMU starts the build's
+    libpython isolated, with that libpython's standard library, although PATH finds another
+    Python (Debian's /usr/bin/python3) first."""
     exe = _compile_host(tmp_path)
-    libpython = Path(sysconfig.get_config_var("LIBDIR")) / sysconfig.get_config_var("LDLIBRARY")
-    if not libpython.exists():
-        pytest.skip(f"this Python has no shared libpython ({libpython})")
-    theta, impacts = _run_host(exe, fmu_path, tmp_path, libpython, sys.base_prefix)
+    if not BUILD_LIBPYTHON.exists():
+        pytest.skip(f"this Python has no shared libpython ({BUILD_LIBPYTHON})")
+    theta, impacts, err = _run_host(exe, fmu_path, tmp_path, PLAIN_ENV)
+    assert f"libpython: {BUILD_LIBPYTHON}" in err
+    assert (theta, impacts) == _fmpy_reference(fmu_path)  # the same interpreter: bit for bit
+
+
+def test_c_host_uses_the_libpython_it_is_pointed_at(fmu_path, tmp_path):
+    """PIDAMPER_LIBPYTHON names another Python 3.11 (Debian's): it runs with its own standard
+    library (mixing it with the build's makes fmi2Instantiate fail)."""
+    other = Path("/usr/lib/x86_64-linux-gnu") / sysconfig.get_config_var("INSTSONAME")
+    if not other.exists() or other.resolve() == BUILD_LIBPYTHON.resolve():
+        pytest.skip(f"no second libpython of this version at {other}")
+    exe = _compile_host(tmp_path)
+    theta, impacts, err = _run_host(exe, fmu_path, tmp_path, {**PLAIN_ENV, "PIDAMPER_LIBPYTHON": str(other)})
+    assert f"libpython: {other}" in err and str(BUILD_LIBPYTHON) not in err
+    ref_theta, ref_impacts = _fmpy_reference(fmu_path)
+    assert impacts == ref_impacts and theta == pytest.approx(ref_theta, abs=1e-12)
+
+
+def test_c_host_without_any_python_says_what_it_looked_for(fmu_path, tmp_path):
+    """A layer built for a Python that is nowhere (3.99): fmi2Instantiate returns NULL after a
+    message naming each place it looked and how to point it at one."""
+    from build_fmu.native import compile_layer
+
+    exe = _compile_host(tmp_path)
+    unzipped = _unzipped(fmu_path, tmp_path)
+    description = (unzipped / "modelDescription.xml").read_bytes()
+    missing = "/nowhere/lib/libpython3.99.so.1.0"
+    compile_layer(description, "PendulumImpactDamper", unzipped / "binaries" / "linux64" / "PendulumImpactDamper.so",
+                  BUILD_LIBPYTHON=missing, PY_MINOR="3.99")
+    _, _, err = _run_host(exe, fmu_path, tmp_path, {**PLAIN_ENV, "PIDAMPER_LIBPYTHON": "/nowhere/else.so"}, expect=3)
+    assert "no usable Python 3.99 runtime" in err and "/nowhere/else.so" in err and missing in err
+    assert "set PIDAMPER_LIBPYTHON" in err and "libpython3.99.so.1.0:" in err
+
+
+def test_c_host_with_libpython_preloaded(fmu_path, tmp_path):
+    """The old way still works: libpython preloaded (the FMU uses the runtime it finds in the process)."""
+    exe = _compile_host(tmp_path)
+    if not BUILD_LIBPYTHON.exists():
+        pytest.skip(f"this Python has no shared libpython ({BUILD_LIBPYTHON})")
+    theta, impacts, _ = _run_host(exe, fmu_path, tmp_path, {**PLAIN_ENV, "LD_PRELOAD": str(BUILD_LIBPYTHON)})
     assert (theta, impacts) == _fmpy_reference(fmu_path)  # same interpreter: bit for bit
 
 
@@ -169,11 +219,14 @@ def _oldest_shared_python():
 
 
 def test_c_host_under_the_oldest_python(fmu_path, tmp_path):
+    """A host process holding another Python (3.8, preloaded with its PYTHONHOME): the FMU runs on it."""
     version, lib = _oldest_shared_python()
     if lib is None:
         pytest.skip("no pyenv CPython >= 3.8 with a shared libpython on this machine")
     exe = _compile_host(tmp_path)
-    theta, impacts = _run_host(exe, fmu_path, tmp_path, lib, lib.parent.parent)
+    env = {**PLAIN_ENV, "LD_PRELOAD": str(lib), "PYTHONHOME": str(lib.parent.parent)}
+    theta, impacts, err = _run_host(exe, fmu_path, tmp_path, env)
+    assert f"libpython: {lib}" in err
     ref_theta, ref_impacts = _fmpy_reference(fmu_path)
     assert impacts == ref_impacts
     assert theta == pytest.approx(ref_theta, abs=1e-12), f"Python {version}"

@@ -205,8 +205,10 @@ def test_streams_live_to_a_viewer_connection(fmu_path, tmp_path):
         sock.bind(("127.0.0.1", 0))
         port = sock.getsockname()[1]
     received = tmp_path / "received.rrd"
+    # the `rerun` entry script starts the viewer binary as its child: give both a process group
+    # of their own and stop the whole group, so no viewer keeps serving after the tests
     receiver = subprocess.Popen([_rerun_cli(), "--port", str(port), "--save", str(received)],
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     try:
         time.sleep(2.0)
         done = subprocess.run([sys.executable, "-m", "pidamper.cli", "run", "--fmu", str(fmu_path), "--periods", "2",
@@ -223,5 +225,22 @@ def test_streams_live_to_a_viewer_connection(fmu_path, tmp_path):
             time.sleep(1.0)
         assert compare.returncode == 0, compare.stderr[-2000:]
     finally:
-        receiver.terminate()
-        receiver.wait(timeout=30)
+        _stop_group(receiver)
+    with pytest.raises(ProcessLookupError):  # nothing of the group is left
+        os.killpg(receiver.pid, 0)
+
+
+def _stop_group(proc, grace=10.0):
+    """SIGTERM the process group of `proc`, SIGKILL what is left after `grace` seconds, reap."""
+    os.killpg(proc.pid, signal.SIGTERM)
+    deadline = time.time() + grace
+    while time.time() < deadline:
+        try:
+            os.killpg(proc.pid, 0)
+        except ProcessLookupError:
+            break
+        proc.poll()
+        time.sleep(0.1)
+    else:
+        os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait(timeout=30)

@@ -1,24 +1,29 @@
 """PendulumImpactDamper: a pythonfmu Fmi2Slave that is a thin adapter over Damper.
 
 Variables (names are a contract): inputs F [N] and a_g [m/s2] (ground acceleration of a
-base excitation: it acts on both bodies, whose x and y are then measured from the ground); parameters g, M, mu, L2, FR, d,
-d_angle, e (tunable), contact_form, F0, Omega, phi, fidelity, zeta_s, zeta_p, angle_limit and the initial state
-theta_0, theta_dot_0, alpha_0, alpha_dot_0; outputs theta, theta_dot, alpha,
-alpha_dot, x, y, z, a, impacts, contact, contact_force, energy,
-energy_dissipated, energy_viscous, work_in.
+base excitation: it acts on both bodies, whose x and y are then measured from the ground); parameters
+g, M, mu, L2, FR, d, d_angle, e (tunable), contact_form, F0, Omega, phi, fidelity, zeta_s, zeta_p,
+angle_limit and the initial state theta_0, theta_dot_0, alpha_0, alpha_dot_0; outputs theta,
+theta_dot, alpha, alpha_dot, x, y, z, a, contact_force, energy, energy_dissipated, energy_viscous,
+work_in, impacts, contact, impacts_in_step, impacts_unrecorded; local variables impact[k].* (the
+impacts of the last step).
 
-Bad input (invalid parameter, non-finite input, inconsistent step) fails the call
-with an exception naming the variable, its value and what is allowed; pythonfmu 0.7
-logs its text through the FMI logger and returns fmi2Fatal, which makes every host
-stop with an error.  A swing beyond angle_limit (the small-angle validity of the
-linear model) is logged once per run at warning level.  Hosts show the model's
-messages only with debug logging on.
+The FMU's native layer (fmi2_entry.c, binaries/linux64/<id>.so) sits in front of pythonfmu's binary:
+it enforces the calling sequence and answers reads from a buffer this class fills after each step
+(_push; the buffer arrives through the hidden String variable _native_link).  Bad input (invalid
+parameter, non-finite input, inconsistent step) is refused with a message naming the variable, its
+value and what is allowed, logged at error level: the layer then answers fmi2Error.  No exception
+reaches pythonfmu (it would answer fmi2Fatal and release Python objects it still uses); without the
+layer (a build with no C compiler) the exception propagates as before.  A swing beyond angle_limit
+(the small-angle validity of the linear model) is logged once per run at warning level.
 """
+import ctypes
 import math
+import struct
 import uuid
 from xml.etree.ElementTree import Element, SubElement
 
-from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real
+from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real, String
 from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
@@ -57,7 +62,8 @@ PARAMETERS = tuple((name, kind, _START[name], unit, lo, hi, desc) for name, kind
                                             "(0.4 rad: its frequency is then 1 % off; 0 = never)"),
 ))
 
-# name, type, unit, description, direct feedthrough from F
+# name, type, unit, description, direct feedthrough from F.  Real outputs first, then the Integer
+# ones: each type's outputs have consecutive value references, so one pack fills them all.
 OUTPUTS = (
     ("theta", Real, "rad", "primary angle", False),
     ("theta_dot", Real, "rad/s", "primary angular velocity", False),
@@ -68,31 +74,34 @@ OUTPUTS = (
                      "x + L1 sin(alpha))", False),
     ("z", Real, "m", "gap x - y", False),
     ("a", Real, "m/s2", "primary acceleration between impacts", True),
-    ("impacts", Integer, None, "impacts applied so far (chatter impacts included)", False),
-    ("contact", Integer, None, "0 free, +1/-1 particle riding that stop", False),
     ("contact_force", Real, "N", "force of the stop on the particle while riding it, else 0", True),
     ("energy", Real, "J", "mechanical energy of the level's model (linear: 0.5 M (v^2 + w2^2 x^2) + 0.5 m (u^2 + w1^2 y^2))", False),
     ("energy_dissipated", Real, "J", "energy dissipated by impacts so far", False),
     ("energy_viscous", Real, "J", "energy taken by the viscous dashpots so far (fidelity >= 1)", False),
     ("work_in", Real, "J", "work done by the applied forces so far, integral of F v dt", False),
-)
-
-# per-step impact record: read after fmi2DoStep; slots beyond impacts_in_step hold zeros
-IMPACT_SLOTS = 16
-IMPACT_FIELDS = (
-    ("t", Real, "s", "time"),
-    ("side", Integer, None, "stop hit: +1 (z = +d) or -1 (z = -d)"),
-    ("v_rel_before", Real, "m/s", "particle minus primary velocity before"),
-    ("v_rel_after", Real, "m/s", "particle minus primary velocity after"),
-    ("energy_lost", Real, "J", "energy lost"),
-    ("theta", Real, "rad", "primary angle"),
-)
-RECORD_OUTPUTS = (
+    ("impacts", Integer, None, "impacts applied so far (chatter impacts included)", False),
+    ("contact", Integer, None, "0 free, +1/-1 particle riding that stop", False),
     ("impacts_in_step", Integer, None, "impacts applied during the last communication step", False),
     ("impacts_unrecorded", Integer, None,
-     f"impacts of the last step beyond the {IMPACT_SLOTS} record slots (counted, not recorded)", False),
-) + tuple((f"impact[{k + 1}].{field}", kind, unit, f"impact {k + 1} of the last step: {desc}", False)
-          for k in range(IMPACT_SLOTS) for field, kind, unit, desc in IMPACT_FIELDS)
+     "impacts of the last step beyond the 16 record slots (counted, not recorded)", False),
+)
+
+# Per-step impact record: local variables (hosts do not record them by default; any host reads them
+# by name after fmi2DoStep).  Slots beyond impacts_in_step hold zeros.  The Real fields of all slots
+# come first (slot-major), then the sides.
+IMPACT_SLOTS = 16
+IMPACT_REALS = (
+    ("t", "s", "time"),
+    ("v_rel_before", "m/s", "particle minus primary velocity before"),
+    ("v_rel_after", "m/s", "particle minus primary velocity after"),
+    ("energy_lost", "J", "energy lost"),
+    ("theta", "rad", "primary angle"),
+)
+RECORD = tuple((f"impact[{k + 1}].{field}", Real, unit, f"impact {k + 1} of the last step: {desc}")
+               for k in range(IMPACT_SLOTS) for field, unit, desc in IMPACT_REALS) + tuple(
+    (f"impact[{k + 1}].side", Integer, None, f"impact {k + 1} of the last step: stop hit, +1 (z = +d) or -1 (z = -d)")
+    for k in range(IMPACT_SLOTS))
+NR = len(IMPACT_REALS)
 
 _UNITS = {"s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "m": {"m": 1}, "m/s2": {"m": 1, "s": -2}, "kg": {"kg": 1}, "1": {},
           "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "N": {"kg": 1, "m": 1, "s": -2},
@@ -100,11 +109,41 @@ _UNITS = {"s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "m": {"m": 1}, "m/s2": {"m": 
 
 _TIME_TOLERANCE = 1e-9  # relative mismatch of a step's start time accepted from a host
 
+# the native layer's buffer is a double per value reference (Integer values too, the layer converts
+# them): the outputs, and the record, each have consecutive value references, so one pack fills each
+_PACK_OUTPUTS = struct.Struct(f"={len(OUTPUTS)}d")
+_PACK_RECORD = struct.Struct(f"={len(RECORD)}d")
+_ZERO_RECORD = (0.0,) * (NR * IMPACT_SLOTS) + (0,) * IMPACT_SLOTS
+LINK = "_native_link"  # hidden String variable (last value reference, not in modelDescription.xml)
 
-def _fmi_text(text):
-    """A message for the FMI logger, which takes it as a printf format (FMI 2.0, 2.1.5): a bare
-    '%' would make the host read arguments that are not there (seen as a crash in fmpy)."""
-    return text.replace("%", "%%")
+
+class Refusal(ValueError):
+    """A call the model refuses: the text names the variable, its value and what is allowed."""
+
+
+def _fmi_text(text, native):
+    """A message for the FMI logger.  pythonfmu's binary passes it as a printf format (FMI 2.0,
+    2.1.5), so a bare '%' would make the host read arguments that are not there (seen as a crash
+    in fmpy); the native layer passes it as an argument, so the text goes as it is."""
+    return text if native else text.replace("%", "%%")
+
+
+def _guarded(default):
+    """Run an FMI entry point so that no exception reaches pythonfmu: with the native layer the
+    error is logged at error level (the layer answers fmi2Error) and `default(args)` returned;
+    without it the exception propagates (pythonfmu answers fmi2Fatal)."""
+    def wrap(method):
+        def call(self, *args):
+            try:
+                return method(self, *args)
+            except Exception as err:
+                if not self._native:
+                    raise
+                self._report(err)
+                return default(args)
+        call.__name__, call.__doc__ = method.__name__, method.__doc__
+        return call
+    return wrap
 
 
 class PendulumImpactDamper(Fmi2Slave):
@@ -122,6 +161,9 @@ class PendulumImpactDamper(Fmi2Slave):
         self.guid = uuid.uuid5(uuid.NAMESPACE_URL, "pidamper/PendulumImpactDamper/" + SOURCE_HASH)
         self._initialized = False
         self._core = None
+        self._monitor = None
+        self._native = False  # the native layer attached its buffer (see _attach)
+        self._buffer = None
         self.F = 0.0
         self.a_g = 0.0
         self.register_variable(Real("F", causality=Fmi2Causality.input, variability=Fmi2Variability.continuous,
@@ -135,40 +177,87 @@ class PendulumImpactDamper(Fmi2Slave):
                 name, causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.tunable if tunable else Fmi2Variability.fixed,
                 setter=self._setter(name, tunable)))
-        self._slots = [[0.0, 0, 0.0, 0.0, 0.0, 0.0] for _ in range(IMPACT_SLOTS)]
+        for k, (name, kind, *_) in enumerate(OUTPUTS):
+            self._register_computed(name, kind, Fmi2Causality.output, self._output_getter(k))
+        self._record_values = list(_ZERO_RECORD)  # slot-major Real fields, then the sides
         self._in_step = 0
-        getters = {name: getattr(self, "_out_" + name) for name, *_ in OUTPUTS}
-        getters["impacts_in_step"] = lambda: self._in_step
-        getters["impacts_unrecorded"] = lambda: max(0, self._in_step - IMPACT_SLOTS)
-        for k in range(IMPACT_SLOTS):
-            for j, (field, *_) in enumerate(IMPACT_FIELDS):
-                getters[f"impact[{k + 1}].{field}"] = self._slot_getter(k, j)
-        for name, kind, *_ in OUTPUTS + RECORD_OUTPUTS:
-            self.register_variable(kind(name, causality=Fmi2Causality.output, initial=Fmi2Initial.calculated,
-                                        variability=Fmi2Variability.continuous if kind is Real
-                                        else Fmi2Variability.discrete,
-                                        getter=getters[name]))
+        self._record_in_buffer = True  # the buffer may hold a non-zero record: write it at the next push
+        for k, (name, kind, *_) in enumerate(RECORD):
+            self._register_computed(name, kind, Fmi2Causality.local, (lambda k=k: self._record_values[k]))
+        self._native_link = ""
+        self.register_variable(String(LINK, causality=Fmi2Causality.local, variability=Fmi2Variability.discrete,
+                                      setter=self._attach))
+        vr = {var.name: vr for vr, var in self.vars.items()}
+        self._offsets = (8 * vr[OUTPUTS[0][0]], 8 * vr[RECORD[0][0]])
+
+    def _register_computed(self, name, kind, causality, getter):
+        self.register_variable(kind(name, causality=causality, initial=Fmi2Initial.calculated,
+                                    variability=Fmi2Variability.continuous if kind is Real
+                                    else Fmi2Variability.discrete, getter=getter))
+
+    def _output_getter(self, k):
+        return lambda: self._outputs()[k]
+
+    # ---- the native layer's buffer ----------------------------------------------------
+
+    def _attach(self, text):
+        """The native layer hands over its buffer: 'address n_vars', a double per value reference."""
+        try:
+            address, count = text.split()
+            count = int(count)
+        except ValueError:
+            raise Refusal(f"{LINK} = {text!r} is not allowed: it is set by the FMU's native layer only")
+        if count != len(self.vars) - 1:
+            raise Refusal(f"{LINK}: the native layer has {count} variables, the model {len(self.vars) - 1} "
+                          "(binaries of another build)")
+        self._buffer = memoryview((ctypes.c_double * count).from_address(int(address, 16))).cast("B")
+        self._native = True
+        self._record_in_buffer = True
+
+    def _push(self, core):
+        """Write every output, and the impact record when it changed, into the native layer's buffer."""
+        buffer = self._buffer
+        off_outputs, off_record = self._offsets
+        _PACK_OUTPUTS.pack_into(buffer, off_outputs, *self._outputs(core))
+        if self._in_step or self._record_in_buffer:
+            _PACK_RECORD.pack_into(buffer, off_record, *self._record_values)
+            self._record_in_buffer = self._in_step > 0
+
+    def _outputs(self, c=None):
+        """The outputs' values in the order of OUTPUTS (of core `c`, default the current one)."""
+        if c is None:
+            c = self._core_now()
+        theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force = c.observables(self.F, self.a_g)
+        n = self._in_step
+        return (theta, theta_dot, alpha, alpha_dot, x, y, x - y, a, contact_force, c.energy, c.dissipated,
+                c.viscous, c.work_in, c.impacts, c.contact, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
 
     # ---- per-step impact record -------------------------------------------------------
-
-    def _slot_getter(self, k, j):
-        return lambda: self._slots[k][j] if k < self._in_step else 0
 
     def _record(self, t, side, v_rel_before, v_rel_after, loss):
         """Core callback, once per impact: fill the next slot (the count goes on past the last)."""
         n = self._in_step
         if n < IMPACT_SLOTS:
-            slot = self._slots[n]
-            slot[0], slot[1], slot[2], slot[3], slot[4] = t, side, v_rel_before, v_rel_after, loss
-            slot[5] = self._core.angles()[0]
+            j = NR * n
+            record = self._record_values
+            record[j:j + NR] = (t, v_rel_before, v_rel_after, loss, self._core.angles()[0])
+            record[NR * IMPACT_SLOTS + n] = side
         self._in_step = n + 1
+
+    def _clear_record(self):
+        if self._in_step:
+            self._record_values[:] = _ZERO_RECORD
+            self._in_step = 0
 
     # ---- parameters -----------------------------------------------------------------
 
     def _setter(self, name, tunable):
         def set_value(value):
             if self._initialized and not tunable:
-                self._fail(name, value, "it is a fixed parameter and cannot change after initialization")
+                if value == getattr(self, name):
+                    return  # the same value again (hosts that set every parameter after initialization)
+                self._fail(name, value, f"it is a fixed parameter (now {getattr(self, name)!r}) and cannot "
+                                        "change after initialization")
             if tunable and self._initialized:
                 try:
                     value = check_restitution(value)
@@ -192,12 +281,13 @@ class PendulumImpactDamper(Fmi2Slave):
         return core
 
     def _fail(self, name, value, allowed):
-        """Refuse the call: the exception becomes fmi2Fatal, and pythonfmu logs its text
-        (naming the variable, its value and the rule) through the FMI logger.  The message
-        is deliberately not queued with self.log as well: pythonfmu 0.7 flushes that queue
-        while the Python exception is still pending, which calls the host's logger in an
-        invalid interpreter state (seen as heap corruption in fmpy hosts)."""
-        raise ValueError(_fmi_text(f"{self.instance_name}: {name} = {value!r} is not allowed: {allowed}"))
+        """Refuse the call, naming the variable, its value and the rule."""
+        raise Refusal(f"{name} = {value!r} is not allowed: {allowed}")
+
+    def _report(self, err):
+        """Log a refused call at error level (the native layer then answers fmi2Error)."""
+        text = str(err) if isinstance(err, Refusal) else f"{type(err).__name__}: {err}"
+        self.log(_fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.error)
 
     def _core_now(self):
         if self._core is None:
@@ -211,102 +301,117 @@ class PendulumImpactDamper(Fmi2Slave):
 
     _t0 = 0.0
 
+    @_guarded(lambda args: None)
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
         if not math.isfinite(start_time):
             self._fail("startTime", start_time, "it must be finite")
         self._t0 = float(start_time)
         self._core = None
 
+    @_guarded(lambda args: None)
     def exit_initialization_mode(self):
         self._core = None
         self._core_now()
         self._initialized = True
 
     def do_step(self, current_time, step_size):
+        try:
+            self._step(current_time, step_size)
+        except Exception as err:
+            if not self._native:
+                raise
+            self._report(err)
+            return False
+        return True
+
+    def _step(self, current_time, step_size):
         core = self._core
+        if core is None or not self._initialized:
+            raise Refusal("fmi2DoStep is not allowed before fmi2ExitInitializationMode")
         t = core.t
-        if not (math.isfinite(current_time) and math.isfinite(step_size)) or step_size < 0.0:
-            self._fail("communicationStepSize", step_size,
-                       f"the step from {current_time!r} must be finite and >= 0 (no step back in time)")
+        force, ground = self.F, self.a_g
+        total = current_time + step_size + force + ground
+        if total - total != 0.0 or step_size < 0.0:  # some value is not finite (or a sum overflowed)
+            self._check_step(current_time, step_size, force, ground)
         if abs(current_time - t) > _TIME_TOLERANCE * max(abs(t), step_size):
             self._fail("currentCommunicationPoint", current_time,
                        f"it must equal the FMU time {t!r} (relative tolerance {_TIME_TOLERANCE})")
-        force, ground = self.F, self.a_g
-        if not math.isfinite(force):
-            self._fail("F", force, "the input must be finite")
-        if not math.isfinite(ground):
-            self._fail("a_g", ground, "the input must be finite")
-        self._in_step = 0
+        if self._in_step:
+            self._clear_record()
         core.advance(max(current_time + step_size, t), force, ground)
         monitor = self._monitor
         if monitor is not None:
             warning = monitor.check(core)
             if warning:
                 self._warn(warning)
-        return True
+        if self._native:
+            self._push(core)
 
+    def _check_step(self, current_time, step_size, force, ground):
+        """Refuse a step that is not finite or goes back, or a non-finite input, naming it."""
+        if not (math.isfinite(current_time) and math.isfinite(step_size)) or step_size < 0.0:
+            self._fail("communicationStepSize", step_size,
+                       f"the step from {current_time!r} must be finite and >= 0 (no step back in time)")
+        if not math.isfinite(force):
+            self._fail("F", force, "the input must be finite")
+        if not math.isfinite(ground):
+            self._fail("a_g", ground, "the input must be finite")
+
+    @_guarded(lambda args: None)
     def terminate(self):
         summary = self._monitor.summary() if self._monitor is not None and self._initialized else None
         if summary:
             self._warn(summary)
 
     def _warn(self, text):
-        self.log(_fmi_text(f"{self.instance_name}: {text}"), Fmi2Status.warning)
+        self.log(_fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.warning)
 
-    # ---- outputs --------------------------------------------------------------------
+    # ---- variable access: type-checked, one pass per call ---------------------------
 
-    def _out_theta(self):
-        c = self._core_now()
-        return c.angles()[0]
+    def _values(self, vrs, kind):
+        out = []
+        variables = self.vars
+        for vr in vrs:
+            var = variables.get(vr)
+            if var is None or var.name == LINK:
+                raise Refusal(f"value reference {vr} is not allowed: no such variable")
+            if not isinstance(var, kind):
+                raise Refusal(f"{var.name} (value reference {vr}) is not allowed here: it is not a "
+                              f"{kind.__name__} variable")
+            out.append(var)
+        return out
 
-    def _out_theta_dot(self):
-        c = self._core_now()
-        return c.angles()[1]
+    @_guarded(lambda args: [math.nan] * len(args[0]))
+    def get_real(self, vrs):
+        return [float(var.getter()) for var in self._values(vrs, Real)]
 
-    def _out_alpha(self):
-        c = self._core_now()
-        return c.angles()[2]
+    @_guarded(lambda args: [0] * len(args[0]))
+    def get_integer(self, vrs):
+        return [int(var.getter()) for var in self._values(vrs, Integer)]
 
-    def _out_alpha_dot(self):
-        c = self._core_now()
-        return c.angles()[3]
+    @_guarded(lambda args: None)
+    def set_real(self, vrs, values):
+        for var, value in zip(self._values(vrs, Real), values):
+            var.setter(value)
 
-    def _out_x(self):
-        return self._core_now().displacements()[0]
+    @_guarded(lambda args: None)
+    def set_integer(self, vrs, values):
+        for var, value in zip(self._values(vrs, Integer), values):
+            var.setter(value)
 
-    def _out_y(self):
-        return self._core_now().displacements()[2]
-
-    def _out_z(self):
-        x, _, y, _ = self._core_now().displacements()
-        return x - y
-
-    def _out_a(self):
-        return self._core_now().acceleration(self.F, self.a_g)
-
-    def _out_impacts(self):
-        return self._core_now().impacts
-
-    def _out_contact(self):
-        return self._core_now().contact
-
-    def _out_contact_force(self):
-        return self._core_now().contact_force(self.F, self.a_g)
-
-    def _out_energy(self):
-        return self._core_now().energy
-
-    def _out_energy_dissipated(self):
-        return self._core_now().dissipated
-
-    def _out_energy_viscous(self):
-        return self._core_now().viscous
-
-    def _out_work_in(self):
-        return self._core_now().work_in
+    def set_string(self, vrs, values):
+        """Only the native layer sets a String (its link); a failure is logged, never raised."""
+        try:
+            for vr, value in zip(vrs, values):
+                if self.vars.get(vr) is None or self.vars[vr].name != LINK:
+                    raise Refusal(f"value reference {vr} is not allowed: the model has no String variable")
+                self._attach(value)
+        except Exception as err:
+            self._report(err)
 
     # ---- FMU state ------------------------------------------------------------------
 
+    @_guarded(lambda args: None)
     def _get_fmu_state(self):
         state = {name: getattr(self, name) for name, *_ in PARAMETERS}
         state["F"] = self.F
@@ -315,11 +420,12 @@ class PendulumImpactDamper(Fmi2Slave):
         state["_initialized"] = self._initialized
         state["_core"] = self._core.get_state() if self._initialized else None
         state["_in_step"] = self._in_step
-        state["_slots"] = [list(slot) for slot in self._slots]
+        state["_record"] = list(self._record_values)
         monitor = self._monitor if self._initialized else None
         state["_monitor"] = None if monitor is None else monitor.get_state()
         return state
 
+    @_guarded(lambda args: None)
     def _set_fmu_state(self, state):
         for name, *_ in PARAMETERS:
             setattr(self, name, state[name])
@@ -328,7 +434,8 @@ class PendulumImpactDamper(Fmi2Slave):
         self._t0 = state["_t0"]
         self._initialized = state["_initialized"]
         self._in_step = state["_in_step"]
-        self._slots = [list(slot) for slot in state["_slots"]]
+        self._record_values[:] = state["_record"]
+        self._record_in_buffer = True
         self._core = None
         if self._initialized:
             core = self._build_core()
@@ -340,14 +447,19 @@ class PendulumImpactDamper(Fmi2Slave):
     # ---- modelDescription -----------------------------------------------------------
 
     def to_xml(self, model_options=dict()):
-        """pythonfmu's description plus units, ranges, descriptions and a full ModelStructure."""
+        """pythonfmu's description plus units, ranges, descriptions and a full ModelStructure;
+        the native layer's link variable is left out (hosts never see it)."""
         root = super().to_xml(model_options)
         info = {name: (unit, lo, hi, desc) for name, _, _, unit, lo, hi, desc in PARAMETERS}
-        info.update({name: (unit, None, None, desc) for name, _, unit, desc, _ in OUTPUTS + RECORD_OUTPUTS})
+        info.update({name: (unit, None, None, desc) for name, _, unit, desc, *_ in OUTPUTS + RECORD})
         info["F"] = ("N", None, None, "horizontal force on the primary mass")
         info["a_g"] = ("m/s2", None, None, "ground acceleration of a base excitation (acts on both bodies)")
+        variables = root.find("ModelVariables")
+        for sv in list(variables):
+            if sv.get("name") == LINK:
+                variables.remove(sv)
         index = {}
-        for i, sv in enumerate(root.find("ModelVariables"), start=1):
+        for i, sv in enumerate(variables, start=1):
             name = sv.get("name")
             index[name] = i
             unit, lo, hi, desc = info[name]
@@ -365,7 +477,7 @@ class PendulumImpactDamper(Fmi2Slave):
             structure.remove(child)
         outputs = SubElement(structure, "Outputs")
         initial = SubElement(structure, "InitialUnknowns")
-        for name, _, _, _, feedthrough in OUTPUTS + RECORD_OUTPUTS:
+        for name, _, _, _, feedthrough in OUTPUTS:
             deps = f"{index['F']} {index['a_g']}" if feedthrough else ""
             SubElement(outputs, "Unknown", index=str(index[name]), dependencies=deps)
             SubElement(initial, "Unknown", index=str(index[name]))

@@ -154,7 +154,7 @@ class Damper:
         """Primary acceleration [m/s2] (relative to the ground) under held force `force` [N] and
         ground acceleration `ground` [m/s2]."""
         p = self.p
-        f = force / p.M + p.F0 / p.M * math.sin(self._phase())
+        f = force / p.M + p.F0 / p.M * math.sin(self._phase()) if p.F0 else force / p.M
         return self.model.acceleration(self.x, self.v, self.y, self.u, self.contact, f, ground)
 
     def contact_force(self, force=0.0, ground=0.0):
@@ -164,6 +164,20 @@ class Damper:
         p = self.p
         f = force / p.M + p.F0 / p.M * math.sin(self._phase())
         return p.m * self.model.contact_accel(self.x, self.v, self.side, f, ground)
+
+    def observables(self, force=0.0, ground=0.0):
+        """(theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force) in one call [rad, rad/s, m,
+        m/s2, N]: the values of angles(), displacements(), acceleration() and contact_force()."""
+        p = self.p
+        f = force / p.M + p.F0 / p.M * math.sin(self._phase()) if p.F0 else force / p.M
+        x, v, y, u, side, model = self.x, self.v, self.y, self.u, self.contact, self.model
+        inline = getattr(model, "observables", None)
+        if inline is not None:
+            return inline(x, v, y, u, side, f, ground)
+        theta, theta_dot, alpha, alpha_dot = model.angles(x, v, y, u)
+        px, _, py, _ = model.displacements(x, v, y, u)
+        contact = p.m * model.contact_accel(x, v, side, f, ground) if side else 0.0
+        return theta, theta_dot, alpha, alpha_dot, px, py, model.acceleration(x, v, y, u, side, f, ground), contact
 
     def get_state(self):
         """Plain dict (JSON-safe) of everything that determines the future motion."""

@@ -96,6 +96,17 @@ class LinearModel(_Displacements):
         p = self.p
         return accel + p.w1 * p.w1 * (x - side * p.d) + ground
 
+    def observables(self, x, v, y, u, side, f, ground):
+        """Damper.observables of this level inline (the FMU's outputs at every step): the same
+        operations in the same order as angles, acceleration and contact_accel, so the same
+        values to the last bit."""
+        p = self.p
+        L2, L1, ww2 = p.L2, p.L1, p.w2 * p.w2
+        if not side:
+            return x / L2, v / L2, y / L1, u / L1, x, y, f - ww2 * x - ground, 0.0
+        a = (f + p.mu * p.w1 * p.w1 * (side * p.d - x) - ww2 * x) / (1.0 + p.mu) - ground
+        return x / L2, v / L2, y / L1, u / L1, x, y, a, p.m * (a + p.w1 * p.w1 * (x - side * p.d) + ground)
+
 
 class ModalModel(_Displacements):
     """Damped or coupled level: closed form by modes (modal.py, modal_segments.py)."""

@@ -1,9 +1,10 @@
 """Run a function in a fresh Python process and get its JSON-able result back.
 
-After fmi2Fatal the FMI standard considers every instance of the FMU in the process corrupted,
-and with pythonfmu 0.7 that is literally so (it releases Python objects it still points to).
-Checks that provoke fatal errors on purpose therefore run here, in a child process, so the
-caller (a test session, `pidamper stress`) keeps a clean FMU state.
+The FMU's native layer answers refused calls with fmi2Error and keeps the process sound; an FMU
+without it (pythonfmu's plain binary) answers fmi2Fatal, after which pythonfmu 0.7 has released
+Python objects it still points to.  Checks that provoke refusals on purpose therefore run here,
+in a child process, so the caller (a test session, `pidamper stress`) keeps a clean process
+whichever FMU it checks.
 """
 import json
 import subprocess

@@ -3,10 +3,13 @@
  *
  *   host <unzipped FMU dir> <GUID> <vr theta_dot_0> <theta_dot_0> <vr theta> <vr impacts> <steps> <step size>
  *
- * Prints "theta impacts" after the last step.  A pythonfmu FMU runs its model in Python:
- * on Linux the host must make libpython available (LD_PRELOAD=libpython3.X.so, and
- * PYTHONHOME when the interpreter's standard library is not at the compiled-in prefix). */
+ * Prints "theta impacts" after the last step, and on stderr the libpython the process ended up
+ * with.  The host knows nothing of Python: it opens the FMU's library with RTLD_NOW | RTLD_LOCAL,
+ * as native system simulators do; the FMU finds a Python runtime by itself. */
+#define _GNU_SOURCE
 #include <dlfcn.h>
+#include <link.h>
+#include <string.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,8 +17,20 @@
 
 static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
                    fmi2String message, ...) {
+    va_list args;
     (void)env;
-    fprintf(stderr, "[%s] status %d %s: %s\n", name, (int)status, category ? category : "", message);
+    fprintf(stderr, "[%s] status %d %s: ", name, (int)status, category ? category : "");
+    va_start(args, message);
+    vfprintf(stderr, message, args);
+    va_end(args);
+    fputc('\n', stderr);
+}
+
+static int report_libpython(struct dl_phdr_info *info, size_t size, void *data) {
+    (void)size; (void)data;
+    const char *base = info->dlpi_name ? strrchr(info->dlpi_name, '/') : NULL;
+    if (base && strncmp(base + 1, "libpython3", 10) == 0) fprintf(stderr, "libpython: %s\n", info->dlpi_name);
+    return 0;
 }
 
 #define LOAD(name) name##TYPE *name = (name##TYPE *)dlsym(lib, #name); \
@@ -60,6 +75,7 @@ int main(int argc, char **argv) {
     if (fmi2GetReal(c, vr_out, 1, &theta) > fmi2Warning || fmi2GetInteger(c, vr_imp, 1, &impacts) > fmi2Warning)
         return 6;
     printf("%.17g %d\n", theta, impacts);
+    dl_iterate_phdr(report_libpython, NULL);
     fmi2Terminate(c);
     fmi2FreeInstance(c);
     dlclose(lib);

@@ -1,5 +1,5 @@
-"""Checks that make the FMU fail with fmi2Fatal on purpose; run them through pidamper.isolated
-(a child process each), never in a process that goes on using the FMU."""
+"""Checks that make the FMU refuse a call on purpose (fmi2Error through the native layer, fmi2Fatal
+without it); run them through pidamper.isolated (a child process each)."""
 import numpy as np
 from fmpy.fmi1 import FMICallException
 

@@ -1,15 +1,21 @@
-"""Cost per communication step of the damper FMU next to a trivial pythonfmu FMU, same run.
+"""Cost per communication step of the damper FMU as hosts see it, beside a trivial pythonfmu FMU
+and a compiled C FMU measured in the same run; and the core's cost per impact.
 
-    python -m pidamper.benchmarks.step_cost [--steps N] [--repeats R]
+    python -m pidamper.benchmarks.step_cost [--steps N] [--repeats R] [--out docs/bench]
 
-Both FMUs run under fmpy.simulate_fmu with the same step count; the figure is
-process CPU time per step, the minimum over repeats.
+fmpy rows: process CPU time of the whole `fmpy.simulate_fmu` call divided by its steps (the
+minimum over repeats); "every output" is fmpy's default (no `output=` list).  Native-host rows:
+a C host (benchmarks/native/every_output_host.c) that reads every output at every step with one
+fmi2GetReal/fmi2GetInteger call per variable, as system simulators do.  Writes the report to
+OUT/step-cost.md and prints it.
 """
 import argparse
 import math
+import os
 import platform
 import subprocess
 import sys
+import sysconfig
 import tempfile
 import time
 from pathlib import Path
@@ -17,60 +23,169 @@ from pathlib import Path
 import fmpy
 
 from ..fmu import find_fmu
+from . import floor
+from .impact_cost import CASES as IMPACT_CASES, cost_per_impact
 
+NO_CONTACT = {"d": 10.0, "theta_dot_0": 0.5}  # a clearance beyond any swing: the stops never act
 W2 = math.sqrt(9.81)
-PERIOD = 2 * math.pi / W2
-
-CASES = (
-    ("damper, no contact (d = 10 m)", {"d": 10.0, "theta_dot_0": 0.5}),
-    ("damper, no contact, validity check off (angle_limit = 0)", {"d": 10.0, "theta_dot_0": 0.5, "angle_limit": 0.0}),
-    ("damper, free decay (FR 5, d 0.1 m, e 0.2, A0 = 0.7 rad)", {"theta_dot_0": 0.7 * W2}),
-    ("damper, free decay, validity check off", {"theta_dot_0": 0.7 * W2, "angle_limit": 0.0}),
-    ("damper, resonance (mu 0.02, F0 = 0.01 M g)", {"mu": 0.02, "theta_dot_0": 0.0, "F0": 0.0981, "Omega": W2,
-                                                    "phi": math.pi / 2}),
-)
-
-
-def build_trivial(out_dir):
-    script = Path(__file__).with_name("trivial_model.py")
-    cmd = [sys.executable, "-m", "pythonfmu", "build", "-f", str(script), "-d", str(out_dir), "--no-external-tool"]
-    subprocess.run(cmd, check=True, capture_output=True)
-    return Path(out_dir) / "TrivialPythonFmu.fmu"
+THREE = ["theta", "theta_dot", "impacts"]
+TARGETS = {"three": 1.3, "every": 2.0, "impact": 20.0}
 
 
 def cpu_per_step(fmu, steps, h, start_values, outputs, repeats):
-    best = math.inf
-    impacts = None
+    """(minimum CPU seconds per step, impacts at the end or None)."""
+    best, impacts = math.inf, None
     for _ in range(repeats):
         t0 = time.process_time()
         res = fmpy.simulate_fmu(str(fmu), stop_time=steps * h, output_interval=h, start_values=start_values,
                                 output=outputs)
         best = min(best, (time.process_time() - t0) / steps)
-        if "impacts" in res.dtype.names:
-            impacts = int(res["impacts"][-1])
+        impacts = int(res["impacts"][-1]) if "impacts" in res.dtype.names else None
     return best, impacts
+
+
+def native_host_cost(exe, fmu, steps, h, repeats, preload=None):
+    """CPU seconds per step of the C host reading every output one call at a time."""
+    unzipped = fmpy.extract(str(fmu), unzipdir=tempfile.mkdtemp(prefix="pidamper_host_"))
+    md = fmpy.read_model_description(str(fmu))
+    outputs = [f"{v.type[0]}:{v.valueReference}" for v in md.modelVariables if v.causality == "output"]
+    env = {"PATH": "/usr/local/bin:/usr/bin:/bin", "HOME": str(Path.home()), "LANG": "C.UTF-8"}
+    if preload:
+        env.update(LD_PRELOAD=str(preload), PYTHONHOME=sys.base_prefix)
+    best = math.inf
+    for _ in range(repeats):
+        done = subprocess.run([str(exe), unzipped, md.coSimulation.modelIdentifier, md.guid, str(steps), repr(h)]
+                              + outputs, capture_output=True, text=True, env=env, timeout=600)
+        if done.returncode != 0:
+            raise RuntimeError(f"{fmu.name} in the native host: {done.stderr[-800:]}")
+        best = min(best, float(done.stdout.split()[0]) * 1e-6)
+    return best, len(outputs)
+
+
+def python_speed():
+    """us of sum(range(1000)), best of 5: how fast this machine runs Python today (figures of
+    different days compare through it)."""
+    import timeit
+
+    return min(timeit.repeat("sum(range(1000))", number=2000, repeat=5)) / 2000 * 1e6
+
+
+def machine():
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as handle:
+            cpu = next(line.split(":", 1)[1].strip() for line in handle if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return (f"{os.cpu_count()}-core {platform.machine()} {cpu}, Python {platform.python_version()}, "
+            f"fmpy {fmpy.__version__}")
+
+
+def measure(args, tmp):
+    damper = find_fmu(args.fmu)
+    from build_fmu.native import without_layer
+
+    (Path(tmp) / "plain").mkdir()
+    plain = without_layer(damper, Path(tmp) / "plain" / damper.name)
+    trivial_py = floor.build_trivial_python(tmp)
+    trivial_c = floor.build_trivial_c(tmp)
+    run = lambda fmu, values, outputs: cpu_per_step(fmu, args.steps, args.h, values, outputs, args.repeats)  # noqa
+    fmpy_rows = [
+        ("compiled C FMU (floor), every output (3)", run(trivial_c, {}, None)),
+        ("trivial pythonfmu FMU, every output (3)", run(trivial_py, {}, None)),
+        ("damper, no contact, three outputs", run(damper, NO_CONTACT, THREE)),
+        ("damper, no contact, every output (17)", run(damper, NO_CONTACT, None)),
+        ("damper without the native layer, no contact, every output", run(plain, NO_CONTACT, None)),
+        ("damper, free decay (FR 5, d 0.1 m, e 0.2, A0 = 0.7 rad), three outputs",
+         run(damper, {"theta_dot_0": 0.7 * W2}, THREE)),
+        ("damper, resonance (mu 0.02, F0 = 0.01 M g), three outputs",
+         run(damper, {"mu": 0.02, "theta_dot_0": 0.0, "F0": 0.0981, "Omega": W2, "phi": math.pi / 2}, THREE)),
+    ]
+    host = floor.build_every_output_host(tmp)
+    libpython = Path(sysconfig.get_config_var("LIBDIR") or "") / (sysconfig.get_config_var("INSTSONAME") or "")
+    host_rows = [
+        ("compiled C FMU", native_host_cost(host, trivial_c, args.steps, args.h, args.repeats)),
+        ("trivial pythonfmu FMU (libpython preloaded)",
+         native_host_cost(host, trivial_py, args.steps, args.h, args.repeats, libpython)),
+        ("damper, no contact (finds Python by itself)",
+         native_host_cost(host, damper, args.steps, args.h, args.repeats)),
+        ("damper without the native layer (libpython preloaded)",
+         native_host_cost(host, plain, args.steps, args.h, args.repeats, libpython)),
+    ]
+    impact_rows = [(name, cost_per_impact(values, t_end, args.repeats)) for name, values, t_end in IMPACT_CASES]
+    return fmpy_rows, host_rows, impact_rows
+
+
+def report(args, fmpy_rows, host_rows, impact_rows):
+    base = fmpy_rows[1][1][0]
+    lines = [
+        "# Step cost: the damper FMU as hosts see it",
+        "",
+        f"Measured on {machine()}; the machine ran `sum(range(1000))` in {python_speed():.1f} us. {args.steps} steps "
+        f"of {args.h} s, minimum of {args.repeats} runs, process CPU time. Written by "
+        "`python -m pidamper.benchmarks.step_cost"
+        f" --steps {args.steps} --repeats {args.repeats}` (this page is its output).",
+        "",
+        "## Under `fmpy.simulate_fmu`",
+        "",
+        "CPU time of the whole call divided by its steps. \"Every output\" is fmpy's default (no `output=`",
+        "list); the impact record is a set of local variables, read by name by whoever asks for it.",
+        "",
+        "| FMU | us/step | x trivial pythonfmu | impacts |",
+        "|---|---:|---:|---:|",
+    ]
+    for name, (cost, impacts) in fmpy_rows:
+        lines.append(f"| {name} | {cost * 1e6:.1f} | {cost / base:.2f} | {'' if impacts is None else impacts} |")
+    three, every = fmpy_rows[2][1][0] / base, fmpy_rows[3][1][0] / base
+    lines += [
+        "",
+        f"- no contact, three outputs: **{three:.2f}x** the trivial pythonfmu FMU (target <= {TARGETS['three']}: "
+        f"{'met' if three <= TARGETS['three'] else 'not met'})",
+        f"- no contact, every output: **{every:.2f}x** (target <= {TARGETS['every']}: "
+        f"{'met' if every <= TARGETS['every'] else 'not met'})",
+        "",
+        "## In a native host that reads every output at every step",
+        "",
+        "A C host (`harness/pidamper/benchmarks/native/every_output_host.c`) opens the FMU's library with",
+        "`RTLD_NOW | RTLD_LOCAL` and reads each output with its own `fmi2GetReal`/`fmi2GetInteger` call",
+        "after each `fmi2DoStep`, as system simulators do; CPU time of the step loop per step.",
+        "",
+        "| FMU | outputs | us/step |",
+        "|---|---:|---:|",
+    ]
+    for name, (cost, count) in host_rows:
+        lines.append(f"| {name} | {count} | {cost * 1e6:.2f} |")
+    lines += [
+        "",
+        "## The physics core per impact",
+        "",
+        "CPU of `Damper.advance` over impact-dense runs divided by the impacts (no output steps in between).",
+        "",
+        "| case | impacts | us/impact |",
+        "|---|---:|---:|",
+    ]
+    for name, (cost, impacts) in impact_rows:
+        lines.append(f"| {name} | {impacts} | {cost * 1e6:.1f} |")
+    worst = max(cost for _, (cost, _) in impact_rows) * 1e6
+    lines += ["", f"- worst: **{worst:.1f} us** per impact (target <= {TARGETS['impact']:.0f}: "
+                  f"{'met' if worst <= TARGETS['impact'] else 'not met'})", ""]
+    return "\n".join(lines)
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=20000)
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--interval", type=float, default=PERIOD / 200, help="communication step [s]")
+    parser.add_argument("--h", type=float, default=0.01, help="communication step [s]")
+    parser.add_argument("--fmu", default=None, help="the damper FMU (default: the one built from these sources)")
+    parser.add_argument("--out", type=Path, default=Path("docs/bench"), help="folder of step-cost.md")
     args = parser.parse_args(argv)
-    damper = find_fmu()
-    with tempfile.TemporaryDirectory() as tmp:
-        trivial = build_trivial(tmp)
-        base, _ = cpu_per_step(trivial, args.steps, args.interval, {}, ["y1", "y2", "y3", "n"], args.repeats)
-        rows = [("trivial pythonfmu FMU (3 Real + 1 Integer outputs)", base, None)]
-        for name, values in CASES:
-            cost, impacts = cpu_per_step(damper, args.steps, args.interval, values,
-                                         ["theta", "theta_dot", "impacts", "energy"], args.repeats)
-            rows.append((name, cost, impacts))
-    print(f"fmpy {fmpy.__version__}, Python {platform.python_version()}, {platform.machine()}, "
-          f"{args.steps} steps of {args.interval:.6g} s, min of {args.repeats} runs (process CPU time)")
-    print(f"{'FMU':60s} {'us/step':>9s} {'x trivial':>9s} {'impacts':>8s}")
-    for name, cost, impacts in rows:
-        print(f"{name:60s} {cost * 1e6:9.1f} {cost / base:9.2f} {'' if impacts is None else impacts:>8}")
+    with tempfile.TemporaryDirectory(prefix="pidamper_step_cost_") as tmp:
+        rows = measure(args, tmp)
+    text = report(args, *rows)
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "step-cost.md").write_text(text)
+    print(text)
 
 
 if __name__ == "__main__":

@@ -1,16 +1,16 @@
-"""The smallest pythonfmu co-simulation FMU with the damper's recorded outputs' types:
-three Real outputs and one Integer output, copied from one input.
+"""The smallest pythonfmu co-simulation FMU: one Real input, two Real outputs copied from it and
+one Integer output counting the steps.
 
 Its cost per step under a host is the floor for any pythonfmu FMU recording the same
 outputs on that host (fmpy reads Real and Integer outputs with one FMI call each).
 """
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
 
-REALS = ("y1", "y2", "y3")
+REALS = ("y1", "y2")
 
 
 class TrivialPythonFmu(Fmi2Slave):
-    """y1 = y2 = y3 = u, n = steps taken."""
+    """y1 = y2 = u, n = steps taken."""
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -23,6 +23,6 @@ class TrivialPythonFmu(Fmi2Slave):
         self.register_variable(Integer("n", causality=Fmi2Causality.output, variability=Fmi2Variability.discrete))
 
     def do_step(self, current_time, step_size):
-        self.y1 = self.y2 = self.y3 = self.u
+        self.y1 = self.y2 = self.u
         self.n += 1
         return True
