@@ -510,45 +510,41 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
     return fmi2OK;
 }
 
+/* The inner call's status settled; on success the instance moves to `next`; values are re-read. */
+static fmi2Status move_to(Instance *inst, fmi2Status status, enum Mode next) {
+    status = settle(inst, status);
+    if (status <= fmi2Warning) inst->mode = next;
+    invalidate(inst);
+    return status;
+}
+
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
     ENTER(M(INSTANTIATED), "fmi2SetupExperiment")
-    fmi2Status s = settle(inst, inner.fmi2SetupExperiment(inst->inner, toleranceDefined, tolerance, startTime,
-                                                          stopTimeDefined, stopTime));
-    if (s <= fmi2Warning) inst->time = startTime;
-    invalidate(inst);
-    return s;
+    inst->time = startTime;
+    return move_to(inst, inner.fmi2SetupExperiment(inst->inner, toleranceDefined, tolerance, startTime,
+                                                    stopTimeDefined, stopTime), INSTANTIATED);
 }
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
     ENTER(M(INSTANTIATED), "fmi2EnterInitializationMode")
-    fmi2Status s = settle(inst, inner.fmi2EnterInitializationMode(inst->inner));
-    if (s <= fmi2Warning) inst->mode = INIT_MODE;
-    invalidate(inst);
-    return s;
+    return move_to(inst, inner.fmi2EnterInitializationMode(inst->inner), INIT_MODE);
 }
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     ENTER(M(INIT_MODE), "fmi2ExitInitializationMode")
-    fmi2Status s = settle(inst, inner.fmi2ExitInitializationMode(inst->inner));
-    if (s <= fmi2Warning) inst->mode = STEP_COMPLETE;
-    invalidate(inst);
-    return s;
+    return move_to(inst, inner.fmi2ExitInitializationMode(inst->inner), STEP_COMPLETE);
 }
 
 fmi2Status fmi2Terminate(fmi2Component c) {
     ENTER(M(STEP_COMPLETE), "fmi2Terminate")
-    fmi2Status s = settle(inst, inner.fmi2Terminate(inst->inner));
-    if (s <= fmi2Warning) inst->mode = TERMINATED;
-    return s;
+    return move_to(inst, inner.fmi2Terminate(inst->inner), TERMINATED);
 }
 
 fmi2Status fmi2Reset(fmi2Component c) {
     ENTER(ANY_BUT_FATAL, "fmi2Reset")
-    fmi2Status s = settle(inst, inner.fmi2Reset(inst->inner));
-    invalidate(inst);
+    fmi2Status s = move_to(inst, inner.fmi2Reset(inst->inner), INSTANTIATED);
     if (s <= fmi2Warning) {
-        inst->mode = INSTANTIATED;
         inst->time = 0.0;
         attach(inst); /* pythonfmu made a new model object */
     }
