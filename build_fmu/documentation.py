@@ -64,7 +64,7 @@ def git_revision():
         return "unknown"
 
 
-def write_index(path, version, parameters, outputs):
+def write_index(path, version, parameters, outputs, derived):
     def rows(items, with_range):
         out = []
         for item in items:
@@ -121,6 +121,11 @@ the model refuses; fixed parameters set after initialization to their current va
 <h2>Outputs</h2>
 <table border="1"><tr><th>name</th><th>unit</th><th>feedthrough</th><th>description</th></tr>
 {rows(outputs, False)}</table>
+<h2>Local variables</h2>
+<p>Derived and bookkeeping values, computed with the outputs after each step; hosts do not record
+locals by default, any host reads them by name.</p>
+<table border="1"><tr><th>name</th><th>unit</th><th>feedthrough</th><th>description</th></tr>
+{rows(derived, False)}</table>
 <p>Local variables impact[k].t, .side, .v_rel_before, .v_rel_after, .energy_lost, .theta (k = 1..16) record
 the impacts of the last communication step (slots beyond impacts_in_step hold zeros); hosts do not record
 them by default, any host reads them by name after fmi2DoStep.</p>
@@ -135,12 +140,12 @@ Result: PendulumImpactDamper_ref.csv.</p>
 
 def write(folder, version):
     """Fill `folder` with index.html, default_experiment.png and PendulumImpactDamper_ref.csv."""
-    from pidamper_fmu.slave import OUTPUTS, PARAMETERS
+    from pidamper_fmu.slave import DERIVED, OUTPUTS, PARAMETERS
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     rows = reference_result()
     write_reference_csv(folder / "PendulumImpactDamper_ref.csv", rows)
     write_plot(folder / "default_experiment.png", rows)
-    write_index(folder / "index.html", version, PARAMETERS, OUTPUTS)
+    write_index(folder / "index.html", version, PARAMETERS, OUTPUTS, DERIVED)
     return folder

@@ -4,6 +4,7 @@ import gc
 import io
 import math
 import random
+import re
 import shutil
 import subprocess
 import sys
@@ -218,3 +219,32 @@ def test_documentation_and_reference_result(fmu_path):
     assert len(res) == len(ref)
     for name in ref.dtype.names:
         assert np.array_equal(res[name], ref[name]), name
+
+
+EXIT_WITHOUT_FREE = """
+import sys, fmpy
+from fmpy.fmi2 import FMU2Slave
+md = fmpy.read_model_description(sys.argv[1])
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(sys.argv[1]), modelIdentifier="PendulumImpactDamper",
+                instanceName="left")
+fmu.instantiate(); fmu.setupExperiment(startTime=0.0); fmu.enterInitializationMode(); fmu.exitInitializationMode()
+for k in range(50):
+    fmu.doStep(currentCommunicationPoint=k * 0.01, communicationStepSize=0.01)
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(900)
+def test_exit_without_free_touches_no_freed_memory(fmu_path):
+    """A host that exits without freeing its instance: valgrind sees no access to freed memory from
+    the FMU's libraries at exit (pythonfmu's static destructor and its ELF destructor used to release
+    the same pointer twice: 'corrupted double-linked list' aborts)."""
+    valgrind = shutil.which("valgrind")
+    if not valgrind:
+        pytest.skip("valgrind is not installed")
+    done = subprocess.run([valgrind, "--error-limit=no", sys.executable, "-c", EXIT_WITHOUT_FREE, str(fmu_path)],
+                          capture_output=True, text=True, timeout=850)
+    assert done.returncode == 0, done.stderr[-3000:]
+    records = re.split(r"^==\d+== $", done.stderr, flags=re.M)  # valgrind ends each report with an empty line
+    ours = [r for r in records if "Invalid " in r and "PendulumImpactDamper" in r.split("Address")[0]]
+    assert not ours, ours[0][-3000:]

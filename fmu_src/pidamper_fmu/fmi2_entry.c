@@ -104,6 +104,17 @@ static struct {
 
 static pthread_mutex_t load_lock = PTHREAD_MUTEX_INITIALIZER;
 static int loaded = 0;
+static void (*inner_finalize)(void);
+
+/* pythonfmu's binary keeps its Python helper in a static std::shared_ptr, whose C++ destructor runs
+ * among the exit handlers, and resets the same pointer again from an ELF destructor that runs
+ * after them (_dl_fini): a release of freed memory at every process exit that did not unload the
+ * library (valgrind: invalid read in finalizePythonInterpreter; seen as "corrupted double-linked
+ * list" aborts).  Registered after that library is loaded, this handler runs before its static
+ * destructor and resets the pointer first, so both later resets find it empty. */
+static void finalize_inner(void) {
+    if (inner_finalize) inner_finalize();
+}
 
 /* ---- logging -------------------------------------------------------------------------------- */
 
@@ -318,6 +329,8 @@ static int load(char *why, size_t n) {
             snprintf(why, n, "%s lacks %s", path, #name); pthread_mutex_unlock(&load_lock); return 0; }
         INNER_FUNCTIONS(RESOLVE)
 #undef RESOLVE
+        inner_finalize = (void (*)(void))dlsym(lib, "finalizePythonInterpreter");
+        if (inner_finalize) atexit(finalize_inner);
         build_groups();
         loaded = 1;
     }

@@ -62,29 +62,34 @@ PARAMETERS = tuple((name, kind, _START[name], unit, lo, hi, desc) for name, kind
                                             "(0.4 rad: its frequency is then 1 % off; 0 = never)"),
 ))
 
-# name, type, unit, description, direct feedthrough from F.  Real outputs first, then the Integer
-# ones: each type's outputs have consecutive value references, so one pack fills them all.
+# name, type, unit, description, direct feedthrough from F.  The outputs are the component's
+# interface (what a host records by default and connects); the derived and bookkeeping values are
+# local variables a host reads by name.  Both are computed together after each step and have
+# consecutive value references in this order, so one pack fills them all.
 OUTPUTS = (
     ("theta", Real, "rad", "primary angle", False),
     ("theta_dot", Real, "rad/s", "primary angular velocity", False),
     ("alpha", Real, "rad", "particle angle (of its wire from the vertical)", False),
     ("alpha_dot", Real, "rad/s", "particle angular velocity", False),
-    ("x", Real, "m", "primary displacement (linear levels: L2*theta; nonlinear: L2 sin(theta))", False),
-    ("y", Real, "m", "particle displacement (linear, damped: L1*alpha; coupled: x + L1*alpha; nonlinear: "
-                     "x + L1 sin(alpha))", False),
-    ("z", Real, "m", "gap x - y", False),
     ("a", Real, "m/s2", "primary acceleration between impacts", True),
     ("contact_force", Real, "N", "force of the stop on the particle while riding it, else 0", True),
     ("energy", Real, "J", "mechanical energy of the level's model (linear: 0.5 M (v^2 + w2^2 x^2) + 0.5 m (u^2 + w1^2 y^2))", False),
     ("energy_dissipated", Real, "J", "energy dissipated by impacts so far", False),
-    ("energy_viscous", Real, "J", "energy taken by the viscous dashpots so far (fidelity >= 1)", False),
-    ("work_in", Real, "J", "work done by the applied forces so far, integral of F v dt", False),
     ("impacts", Integer, None, "impacts applied so far (chatter impacts included)", False),
     ("contact", Integer, None, "0 free, +1/-1 particle riding that stop", False),
+)
+DERIVED = (
+    ("x", Real, "m", "primary displacement (linear levels: L2*theta; nonlinear: L2 sin(theta))", False),
+    ("y", Real, "m", "particle displacement (linear, damped: L1*alpha; coupled: x + L1*alpha; nonlinear: "
+                     "x + L1 sin(alpha))", False),
+    ("z", Real, "m", "gap x - y", False),
+    ("energy_viscous", Real, "J", "energy taken by the viscous dashpots so far (fidelity >= 1)", False),
+    ("work_in", Real, "J", "work done by the applied forces so far, integral of F v dt", False),
     ("impacts_in_step", Integer, None, "impacts applied during the last communication step", False),
     ("impacts_unrecorded", Integer, None,
      "impacts of the last step beyond the 16 record slots (counted, not recorded)", False),
 )
+COMPUTED = OUTPUTS + DERIVED
 
 # Per-step impact record: local variables (hosts do not record them by default; any host reads them
 # by name after fmi2DoStep).  Slots beyond impacts_in_step hold zeros.  The Real fields of all slots
@@ -111,7 +116,7 @@ _TIME_TOLERANCE = 1e-9  # relative mismatch of a step's start time accepted from
 
 # the native layer's buffer is a double per value reference (Integer values too, the layer converts
 # them): the outputs, and the record, each have consecutive value references, so one pack fills each
-_PACK_OUTPUTS = struct.Struct(f"={len(OUTPUTS)}d")
+_PACK_COMPUTED = struct.Struct(f"={len(COMPUTED)}d")
 _PACK_RECORD = struct.Struct(f"={len(RECORD)}d")
 _ZERO_RECORD = (0.0,) * (NR * IMPACT_SLOTS) + (0,) * IMPACT_SLOTS
 LINK = "_native_link"  # hidden String variable (last value reference, not in modelDescription.xml)
@@ -177,8 +182,9 @@ class PendulumImpactDamper(Fmi2Slave):
                 name, causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.tunable if tunable else Fmi2Variability.fixed,
                 setter=self._setter(name, tunable)))
-        for k, (name, kind, *_) in enumerate(OUTPUTS):
-            self._register_computed(name, kind, Fmi2Causality.output, self._output_getter(k))
+        for k, (name, kind, *_) in enumerate(COMPUTED):
+            causality = Fmi2Causality.output if k < len(OUTPUTS) else Fmi2Causality.local
+            self._register_computed(name, kind, causality, self._output_getter(k))
         self._record_values = list(_ZERO_RECORD)  # slot-major Real fields, then the sides
         self._in_step = 0
         self._record_in_buffer = True  # the buffer may hold a non-zero record: write it at the next push
@@ -218,19 +224,19 @@ class PendulumImpactDamper(Fmi2Slave):
         """Write every output, and the impact record when it changed, into the native layer's buffer."""
         buffer = self._buffer
         off_outputs, off_record = self._offsets
-        _PACK_OUTPUTS.pack_into(buffer, off_outputs, *self._outputs(core))
+        _PACK_COMPUTED.pack_into(buffer, off_outputs, *self._outputs(core))
         if self._in_step or self._record_in_buffer:
             _PACK_RECORD.pack_into(buffer, off_record, *self._record_values)
             self._record_in_buffer = self._in_step > 0
 
     def _outputs(self, c=None):
-        """The outputs' values in the order of OUTPUTS (of core `c`, default the current one)."""
+        """The values of COMPUTED in its order (of core `c`, default the current one)."""
         if c is None:
             c = self._core_now()
         theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force = c.observables(self.F, self.a_g)
         n = self._in_step
-        return (theta, theta_dot, alpha, alpha_dot, x, y, x - y, a, contact_force, c.energy, c.dissipated,
-                c.viscous, c.work_in, c.impacts, c.contact, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
+        return (theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact,
+                x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
 
     # ---- per-step impact record -------------------------------------------------------
 
@@ -451,7 +457,7 @@ class PendulumImpactDamper(Fmi2Slave):
         the native layer's link variable is left out (hosts never see it)."""
         root = super().to_xml(model_options)
         info = {name: (unit, lo, hi, desc) for name, _, _, unit, lo, hi, desc in PARAMETERS}
-        info.update({name: (unit, None, None, desc) for name, _, unit, desc, *_ in OUTPUTS + RECORD})
+        info.update({name: (unit, None, None, desc) for name, _, unit, desc, *_ in COMPUTED + RECORD})
         info["F"] = ("N", None, None, "horizontal force on the primary mass")
         info["a_g"] = ("m/s2", None, None, "ground acceleration of a base excitation (acts on both bodies)")
         variables = root.find("ModelVariables")
