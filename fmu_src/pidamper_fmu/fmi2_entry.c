@@ -26,6 +26,7 @@
 #endif
 #include <Python.h> /* types only (PyConfig): every Python function is looked up at run time */
 #include <dlfcn.h>
+#include <fcntl.h>
 #include <link.h>
 #include <pthread.h>
 #include <stdarg.h>
@@ -68,6 +69,7 @@ typedef struct {
     fmi2CallbackFunctions host;
     fmi2CallbackFunctions to_inner; /* our logger; componentEnvironment = this instance */
     char *name;
+    int resources_fd; /* an open folder standing in for a path pythonfmu would misread, else -1 */
     enum Mode mode;
     int logging_on;
     fmi2Status reported; /* worst status the model logged during the current call */
@@ -486,6 +488,11 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
         free(inst ? inst->name : NULL); free(inst); free(inner_name);
         return NULL;
     }
+    inst->resources_fd = -1;
+    if (strstr(resources, "%20")) { /* pythonfmu turns a literal "%20" in a path into a space */
+        inst->resources_fd = open(resources, O_PATH | O_DIRECTORY | O_CLOEXEC);
+        if (inst->resources_fd >= 0) snprintf(resources, sizeof resources, "/proc/self/fd/%d", inst->resources_fd);
+    }
     inst->host = *functions;
     inst->to_inner = *functions;
     inst->to_inner.logger = from_inner;
@@ -497,6 +504,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     if (!inst->inner) {
         say(functions, name, 1, fmi2Error, "logStatusError", "%s: the Python model could not be instantiated "
             "(its message above says why)", name);
+        if (inst->resources_fd >= 0) close(inst->resources_fd);
         free(inst->name);
         free(inst);
         return NULL;
@@ -511,6 +519,7 @@ void fmi2FreeInstance(fmi2Component c) {
     /* a fatal pythonfmu instance has already released its Python objects once: freeing it again
      * would release them twice (the crash this layer exists to prevent), so it is left as it is */
     if (inst->mode != FATAL) inner.fmi2FreeInstance(inst->inner);
+    if (inst->resources_fd >= 0) close(inst->resources_fd);
     free(inst->name);
     free(inst);
 }
