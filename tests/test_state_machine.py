@@ -173,3 +173,45 @@ def test_every_call_in_every_state_answers(fmu_files, state, call):
         assert errors and all(text.startswith("table: ") for text in errors), result
     if result["again"] is not None:
         assert result["again"] == 3
+
+
+RECOVER = r'''
+import sys, fmpy
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave
+md = fmpy.read_model_description(sys.argv[1])
+vr = {v.name: v.valueReference for v in md.modelVariables}
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=sys.argv[2], modelIdentifier="PendulumImpactDamper", instanceName="r")
+fmu.instantiate(); fmu.setupExperiment(startTime=0.0); fmu.enterInitializationMode()
+fmu.setReal([vr["theta_dot_0"]], [2.0])
+try:
+    fmu.setReal([vr["theta"]], [0.1])  # an output: refused, the instance is in the error state
+    raise SystemExit("accepted")
+except FMICallException:
+    pass
+try:
+    fmu.exitInitializationMode()
+    raise SystemExit("left the error state without a restart")
+except FMICallException:
+    pass
+state = fmu.getFMUstate()  # taken in the error state: what the model held when the error came
+fmu.setFMUstate(state)     # back to initialization mode, where the error interrupted it
+fmu.exitInitializationMode()
+for k in range(100):  # fmpy's grid: t_k = k h
+    fmu.doStep(currentCommunicationPoint=k * 0.01, communicationStepSize=(k + 1) * 0.01 - k * 0.01)
+print(repr(fmu.getReal([vr["theta"]])[0]))
+fmu.freeFMUstate(state); fmu.terminate(); fmu.freeInstance()
+'''
+
+
+def test_a_state_saved_after_an_error_restores_where_the_error_came(fmu_path, tmp_path):
+    """FMI 2.0 lets a host restart from a saved state after fmi2Error: the state taken in the error
+    state restores the mode the error interrupted (here initialization mode), and the run goes on
+    as if the refused call had never been made."""
+    unzipped = fmpy.extract(str(fmu_path), unzipdir=str(tmp_path / "u"))
+    done = subprocess.run([sys.executable, "-c", RECOVER, str(fmu_path), unzipped], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:] + done.stdout
+    clean = fmpy.simulate_fmu(str(fmu_path), stop_time=1.0, output_interval=0.01, start_values={"theta_dot_0": 2.0},
+                              output=["theta"])
+    assert float(done.stdout.strip().splitlines()[-1]) == clean["theta"][-1]

@@ -71,6 +71,7 @@ typedef struct {
     char *name;
     int resources_fd; /* an open folder standing in for a path pythonfmu would misread, else -1 */
     enum Mode mode;
+    enum Mode before_error; /* the mode an fmi2Error interrupted (a state saved in ERROR restores to it) */
     int logging_on;
     fmi2Status reported; /* worst status the model logged during the current call */
     double time;
@@ -131,6 +132,15 @@ static void say(const fmi2CallbackFunctions *host, const char *name, int logging
     host->logger(host->componentEnvironment, name ? name : "", status, category, "%s", text);
 }
 
+static void fail(Instance *inst, fmi2Status status) {
+    if (inst->mode == FATAL) return;
+    if (status == fmi2Fatal) inst->mode = FATAL;
+    else if (status == fmi2Error && inst->mode != ERROR) {
+        inst->before_error = inst->mode;
+        inst->mode = ERROR;
+    }
+}
+
 static fmi2Status refuse(Instance *inst, const char *fmt, ...) {
     char text[2048];
     va_list ap;
@@ -138,7 +148,7 @@ static fmi2Status refuse(Instance *inst, const char *fmt, ...) {
     vsnprintf(text, sizeof text, fmt, ap);
     va_end(ap);
     say(&inst->host, inst->name, 1, fmi2Error, "logStatusError", "%s: %s", inst->name, text);
-    if (inst->mode != FATAL) inst->mode = ERROR; /* FMI 2.0: after fmi2Error only a restart */
+    fail(inst, fmi2Error); /* FMI 2.0: after fmi2Error only a restart */
     return fmi2Error;
 }
 
@@ -399,8 +409,7 @@ static void invalidate(Instance *inst) {
 static fmi2Status settle(Instance *inst, fmi2Status status) {
     if (status == fmi2Discard) status = fmi2Error; /* the model refused the step (its message says why) */
     if (inst->reported > status && inst->reported >= fmi2Error) status = inst->reported;
-    if (status == fmi2Fatal) inst->mode = FATAL;
-    else if (status == fmi2Error) inst->mode = ERROR;
+    fail(inst, status);
     return status;
 }
 
@@ -722,7 +731,7 @@ fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
         if (!*FMUstate) free(saved);
         return s > fmi2Warning ? s : refuse(inst, "fmi2GetFMUstate: the model returned no state");
     }
-    saved->mode = inst->mode == ERROR ? STEP_COMPLETE : inst->mode;
+    saved->mode = inst->mode == ERROR ? inst->before_error : inst->mode;
     saved->time = inst->time;
     *FMUstate = saved;
     return s;
