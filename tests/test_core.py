@@ -350,3 +350,45 @@ def test_observables_equal_the_separate_methods(fidelity, side):
                     core.contact_force(force, ground))
         assert core.observables(force, ground) == expected
         assert (expected[-1] != 0.0) == bool(side)
+
+
+@pytest.mark.parametrize("case", ["no contact", "impacts and sticking", "resonance reaching the stops",
+                                  "long steps", "ground motion", "angle form"])
+def test_coasting_fast_path_equals_the_segment_path_bit_for_bit(case):
+    """The linear level's segment-free flight (LinearModel.coast, taken when no stop is within
+    reach) gives the states, clock and bookkeeping of the general path (a Flight segment per
+    piece) to the last bit, step after step; runs that reach the stops switch between both."""
+    w2 = math.sqrt(9.81)
+    values, h, n, a0 = {"d": 10.0}, 0.01, 3000, 0.7 * w2
+    if case == "impacts and sticking":
+        values = {}
+    if case == "resonance reaching the stops":  # coasts while small, then impacts
+        values, a0 = {"e": 0.5}, 0.0
+    if case == "long steps":
+        values, h, n = {"d": 0.3}, 3.0, 60
+    if case == "angle form":
+        values = {"contact_form": 1, "d_angle": 0.5}
+    runs, coasted = [], []
+    for fast in (True, False):
+        core = Damper(Params(**values), 0.0, a0, 0.0, 0.0)
+        model_coast, count = core._coast_model, [0]
+
+        def counting(*args):
+            state = model_coast(*args)
+            count[0] += state is not None
+            return state
+
+        core._coast_model = counting if fast else None
+        states = []
+        for k in range(1, n + 1):
+            force = 0.05 * math.sin(w2 * k * h) if case == "resonance reaching the stops" else 0.05
+            ground = 0.4 * math.cos(1.3 * k * h) if case == "ground motion" else 0.0
+            core.advance(k * h, force, ground)
+            states.append(core.get_state())
+        runs.append(states)
+        coasted.append(count[0])
+    assert runs[0] == runs[1]
+    impacts = runs[0][-1]["impacts"]
+    assert (impacts > 20) == (case in ("impacts and sticking", "resonance reaching the stops", "long steps",
+                                       "angle form"))
+    assert (coasted[0] > 100) == (case in ("no contact", "resonance reaching the stops", "ground motion"))

@@ -18,6 +18,8 @@
  * - Outputs.  After each fmi2DoStep the model writes every output and local variable into this
  *   layer's buffer (one pass in Python); fmi2GetReal/fmi2GetInteger then answer from the buffer
  *   without entering Python.  Parameters are read from Python once and cached until set.
+ * - Steps.  fmi2DoStep calls the model's step method directly (one Python call); the model's
+ *   messages still travel through pythonfmu's log queue, flushed when there are any.
  * - Messages reach the host's logger as a "%s" argument, never as a format; warnings and errors
  *   always, the rest when the host turned logging on.
  */
@@ -78,7 +80,8 @@ typedef struct {
     /* the buffer the model writes into after each step, a double per value reference (Integer
      * values too: converted into `integer` here), and what of it is current */
     int attached;
-    double real[N_VARS];
+    PyObject *model, *step; /* the Python model object and its _native_step (owned references) */
+    double real[N_VARS + 1]; /* real[N_VARS]: where the model leaves its id() when it attaches */
     fmi2Integer integer[N_VARS];
     int volatile_valid[2];  /* [Real, Integer] outputs and locals are current */
     unsigned char fixed_valid[N_VARS]; /* parameters and inputs read from Python and not set since */
@@ -89,6 +92,32 @@ typedef struct {
     enum Mode mode;
     double time;
 } SavedState;
+
+/* The few Python C-API functions the direct step needs, from the runtime in the process. */
+static struct {
+    PyGILState_STATE (*gil_ensure)(void);
+    void (*gil_release)(PyGILState_STATE);
+    PyObject *(*float_from)(double);
+    PyObject *(*call)(PyObject *, ...);
+    long (*as_long)(PyObject *);
+    void (*incref)(PyObject *);
+    void (*decref)(PyObject *);
+    PyObject *(*getattr)(PyObject *, const char *);
+    void (*err_clear)(void);
+} py;
+
+static int resolve_python_api(void) {
+    void **slots[] = {(void **)&py.gil_ensure, (void **)&py.gil_release, (void **)&py.float_from, (void **)&py.call,
+                      (void **)&py.as_long, (void **)&py.incref, (void **)&py.decref, (void **)&py.getattr,
+                      (void **)&py.err_clear};
+    const char *names[] = {"PyGILState_Ensure", "PyGILState_Release", "PyFloat_FromDouble",
+                           "PyObject_CallFunctionObjArgs", "PyLong_AsLong", "Py_IncRef", "Py_DecRef",
+                           "PyObject_GetAttrString", "PyErr_Clear"};
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
+        if (!(*slots[k] = dlsym(RTLD_DEFAULT, names[k]))) return 0;
+    return 1;
+}
+static int python_api = 0;
 
 /* ---- the inner (pythonfmu) library -------------------------------------------------------- */
 
@@ -341,6 +370,7 @@ static int load(char *why, size_t n) {
             snprintf(why, n, "%s lacks %s", path, #name); pthread_mutex_unlock(&load_lock); return 0; }
         INNER_FUNCTIONS(RESOLVE)
 #undef RESOLVE
+        python_api = resolve_python_api();
         inner_finalize = (void (*)(void))dlsym(lib, "finalizePythonInterpreter");
         if (inner_finalize) atexit(finalize_inner);
         build_groups();
@@ -432,15 +462,59 @@ static fmi2Status allowed(Instance *inst, unsigned mask, const char *function) {
 
 /* Give the model its buffer: after each step it writes every output and local variable there.
  * If the model does not take it, values are read from Python on demand (slower, same values). */
+static void detach(Instance *inst) {
+    if (inst->model && python_api) {
+        PyGILState_STATE gil = py.gil_ensure();
+        py.decref(inst->step);
+        py.decref(inst->model);
+        py.gil_release(gil);
+    }
+    inst->model = inst->step = NULL;
+    inst->attached = 0;
+}
+
 static void attach(Instance *inst) {
     char text[64];
     const char *ptr = text;
     fmi2ValueReference vr = VR_LINK;
+    uintptr_t id = 0;
+    detach(inst);
     snprintf(text, sizeof text, "%p %d", (void *)inst->real, (int)N_VARS);
+    inst->real[N_VARS] = 0.0;
     inst->reported = fmi2OK;
     fmi2Status s = inner.fmi2SetString(inst->inner, &vr, 1, &ptr);
     inst->attached = s == fmi2OK && inst->reported < fmi2Error;
     if (s == fmi2Fatal) inst->mode = FATAL;
+    memcpy(&id, &inst->real[N_VARS], sizeof id);
+    if (inst->attached && id && python_api) { /* the model object is alive: pythonfmu holds it */
+        PyGILState_STATE gil = py.gil_ensure();
+        inst->model = (PyObject *)id;
+        py.incref(inst->model);
+        inst->step = py.getattr(inst->model, "_native_step");
+        if (!inst->step) {
+            py.err_clear();
+            py.decref(inst->model);
+            inst->model = NULL;
+        }
+        py.gil_release(gil);
+    }
+}
+
+/* fmi2DoStep as one Python call: 0 done, 1 done with messages queued, 2 refused (message queued).
+ * Queued messages are flushed through pythonfmu (a read of no variable), which logs them. */
+static fmi2Status direct_step(Instance *inst, double t, double h) {
+    PyGILState_STATE gil = py.gil_ensure();
+    PyObject *a = py.float_from(t), *b = py.float_from(h);
+    PyObject *r = a && b ? py.call(inst->step, a, b, NULL) : NULL;
+    long code = r ? py.as_long(r) : -1;
+    if (!r) py.err_clear();
+    py.decref(r);
+    py.decref(a);
+    py.decref(b);
+    py.gil_release(gil);
+    if (code < 0) return refuse(inst, "fmi2DoStep: the model's step raised past its own guard (a bug)");
+    if (code > 0) inner.fmi2GetReal(inst->inner, NULL, 0, NULL);
+    return settle(inst, code == 2 ? fmi2Error : fmi2OK);
 }
 
 /* After a step the model wrote: Integer values arrive as doubles. */
@@ -527,7 +601,10 @@ void fmi2FreeInstance(fmi2Component c) {
     if (!inst) return;
     /* a fatal pythonfmu instance has already released its Python objects once: freeing it again
      * would release them twice (the crash this layer exists to prevent), so it is left as it is */
-    if (inst->mode != FATAL) inner.fmi2FreeInstance(inst->inner);
+    if (inst->mode != FATAL) {
+        detach(inst);
+        inner.fmi2FreeInstance(inst->inner);
+    }
     if (inst->resources_fd >= 0) close(inst->resources_fd);
     free(inst->name);
     free(inst);
@@ -840,8 +917,9 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
                       fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
     ENTER(M(STEP_COMPLETE), "fmi2DoStep")
     inst->volatile_valid[0] = inst->volatile_valid[1] = 0;
-    fmi2Status s = settle(inst, inner.fmi2DoStep(inst->inner, currentCommunicationPoint, communicationStepSize,
-                                                 noSetFMUStatePriorToCurrentPoint));
+    fmi2Status s = inst->step ? direct_step(inst, currentCommunicationPoint, communicationStepSize)
+                              : settle(inst, inner.fmi2DoStep(inst->inner, currentCommunicationPoint,
+                                                              communicationStepSize, noSetFMUStatePriorToCurrentPoint));
     if (s <= fmi2Warning) {
         inst->time = currentCommunicationPoint + communicationStepSize;
         if (inst->attached) take_push(inst);

@@ -207,7 +207,8 @@ class PendulumImpactDamper(Fmi2Slave):
     # ---- the native layer's buffer ----------------------------------------------------
 
     def _attach(self, text):
-        """The native layer hands over its buffer: 'address n_vars', a double per value reference."""
+        """The native layer hands over its buffer: 'address n_vars', a double per value reference
+        and one more slot, where the model leaves its id() (the layer then calls _native_step)."""
         try:
             address, count = text.split()
             count = int(count)
@@ -216,7 +217,8 @@ class PendulumImpactDamper(Fmi2Slave):
         if count != len(self.vars) - 1:
             raise Refusal(f"{LINK}: the native layer has {count} variables, the model {len(self.vars) - 1} "
                           "(binaries of another build)")
-        self._buffer = memoryview((ctypes.c_double * count).from_address(int(address, 16))).cast("B")
+        self._buffer = memoryview((ctypes.c_double * (count + 1)).from_address(int(address, 16))).cast("B")
+        struct.pack_into("=Q", self._buffer, 8 * count, id(self))
         self._native = True
         self._record_in_buffer = True
 
@@ -329,6 +331,16 @@ class PendulumImpactDamper(Fmi2Slave):
             self._report(err)
             return False
         return True
+
+    def _native_step(self, current_time, step_size):
+        """fmi2DoStep called by the native layer directly: 0 done, 1 done with messages queued,
+        2 refused (its message queued)."""
+        try:
+            self._step(current_time, step_size)
+        except Exception as err:
+            self._report(err)
+            return 2
+        return 1 if self.log_queue else 0
 
     def _step(self, current_time, step_size):
         core = self._core

@@ -75,6 +75,7 @@ class Damper:
         # longest segment: one period of the fastest motion keeps trig arguments (and
         # so rounding) small and the derivative bounds tight
         self._max_span = 2.0 * math.pi / self.model.fastest
+        self._coast_model = getattr(self.model, "coast", None)  # a level's segment-free flight, if any
 
     # ---- public API -------------------------------------------------------------------
 
@@ -92,12 +93,18 @@ class Damper:
             raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
         fc = (force / self.p.M - ground, -ground)  # loads per mass on the primary and the particle
         ready = None  # a flight segment already built at the current state by the last event
+        coast = self._coast_model if observe is None else None
         while self.t < t_end:
             horizon = (t_end - self.t) - self.t_lo
             if horizon <= 0.0:  # the state is already at t_end; the clock catches up
                 self.t, self.t_lo = t_end, self.t_lo + (self.t - t_end)
                 break
             span = min(horizon, self._max_span)
+            if coast is not None and ready is None and self.mode == FREE:
+                state = coast(self.x, self.v, self.y, self.u, fc, span)  # None if a stop is within reach
+                if state is not None:
+                    self._coast(state, span, t_end if span == horizon else None)
+                    continue
             seg = ready or self._segment(fc, span)
             if seg.reach < span:  # an integrator step (nonlinear level) ends before the span
                 span = seg.reach
@@ -215,15 +222,7 @@ class Damper:
         error (two-sum), so a forcing phase tied to the clock does not drift over long runs,
         and a tau below one ulp of t still moves the state."""
         t = self.t
-        s = t + tau
-        b = s - t
-        lo = self.t_lo + ((t - (s - b)) + (tau - b))
-        if t_end is None:
-            t_new = s + lo  # renormalised: |t_lo| stays within half an ulp of t
-            lo -= t_new - s
-        else:
-            t_new = t_end
-            lo += s - t_end
+        t_new, lo = self._tick(tau, t_end)
         if observe is not None:
             observe(seg, t, t_new)
         book = self.model.work
@@ -238,6 +237,28 @@ class Damper:
             work, viscous = book(seg, tau, before, after, fc, self._phase(), e_new - self.energy)
             self.work_in += work
             self.viscous += viscous
+        self.energy = e_new
+        self.t, self.t_lo = t_new, lo
+
+    def _tick(self, tau, t_end):
+        """(t, t_lo) of the clock moved by tau (two-sum; t_end: the piece ends there exactly)."""
+        t = self.t
+        s = t + tau
+        b = s - t
+        lo = self.t_lo + ((t - (s - b)) + (tau - b))
+        if t_end is None:
+            t_new = s + lo  # renormalised: |t_lo| stays within half an ulp of t
+            return t_new, lo - (t_new - s)
+        return t_end, lo + (s - t_end)
+
+    def _coast(self, state, tau, t_end):
+        """_move for a free flight the level computed without a segment (no dashpots to book)."""
+        t_new, lo = self._tick(tau, t_end)
+        self.x, self.v, self.y, self.u = state
+        if tau > 0.0:
+            self.fresh = False
+        e_new = self._energy()
+        self.work_in += e_new - self.energy
         self.energy = e_new
         self.t, self.t_lo = t_new, lo
 

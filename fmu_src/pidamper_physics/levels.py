@@ -20,7 +20,7 @@ from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work
 from .nonlinear import NonlinearModel
 from .params import COUPLED, LINEAR, ParameterError
-from .segments import Flight, Outside, Stick
+from .segments import Flight, Outside, Stick, coast
 
 
 class _Displacements:
@@ -70,6 +70,12 @@ class LinearModel(_Displacements):
 
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
         return Flight(self.p, x, v, y, u, fc[0], fc[1], psi, T, always_bound)
+
+    def coast(self, x, v, y, u, fc, T):
+        """The free-flight state after T if no stop is within reach (and no built-in harmonic acts),
+        else None: the values a Flight would give, without building it (segments.coast)."""
+        p = self.p
+        return None if p.F0 else coast(p, x, v, y, u, fc[0], fc[1], T)
 
     def outside(self, x, v, y, u, fc, psi, T, side):
         return Outside(self.p, x, v, y, u, fc[0], fc[1], psi, T, side)

@@ -27,6 +27,24 @@ TOLERANCE = _ULPS * _EPS  # relative rounding level of a guard at tau = 0
 # noise * (1 + growth * tau): events.locate scales them to the tau it classifies at.
 
 
+def coast(p, x, v, y, u, fx, fy, T):
+    """(x, v, y, u) after T of free flight without the built-in harmonic when no stop is within
+    reach over [0, T], else None.  Flight's `clear` test and its positions, in the same operations,
+    without building the segment: the event loop's fast path for the steps that cannot meet a stop."""
+    w2, w1 = p.w2, p.w1
+    xe = fx / (w2 * w2)
+    a2, b2 = x - xe, v / w2
+    ye = fy / (w1 * w1)
+    a1, b1 = y - ye, u / w1
+    D = p.D
+    zmax = p.cx * (abs(xe) + math.hypot(a2, b2)) + p.cy * (abs(ye) + math.hypot(a1, b1))
+    if not zmax < D - TOLERANCE * (D + zmax) * (1.0 + max(w1, w2, p.Omega) * T):
+        return None
+    s2, c2 = math.sin(w2 * T), math.cos(w2 * T)
+    s1, c1 = math.sin(w1 * T), math.cos(w1 * T)
+    return xe + a2 * c2 + b2 * s2, w2 * (b2 * c2 - a2 * s2), ye + a1 * c1 + b1 * s1, w1 * (b1 * c1 - a1 * s1)
+
+
 class Flight:
     """Free flight of both pendulums; guards = distances to the two stops.
 
