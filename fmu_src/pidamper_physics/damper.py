@@ -76,6 +76,7 @@ class Damper:
         # so rounding) small and the derivative bounds tight
         self._max_span = 2.0 * math.pi / self.model.fastest
         self._coast_model = getattr(self.model, "coast", None)  # a level's segment-free flight, if any
+        self._observables = getattr(self.model, "observables", None)  # a level's outputs in one call, if any
 
     # ---- public API -------------------------------------------------------------------
 
@@ -85,7 +86,8 @@ class Damper:
         are then measured from the moving ground) held constant.  observe(seg, t0, t1), if
         given, sees each smooth piece before the state leaves it: the segment `seg` started at
         t0 and holds up to t1 (events, if any, at t1)."""
-        if not (math.isfinite(force) and math.isfinite(t_end) and math.isfinite(ground)):
+        total = force + t_end + ground
+        if total - total != 0.0:  # some value is not finite, or their sum overflowed
             check_finite("F", force)
             check_finite("a_g", ground)
             check_finite("t_end", t_end)
@@ -177,10 +179,11 @@ class Damper:
         m/s2, N]: the values of angles(), displacements(), acceleration() and contact_force()."""
         p = self.p
         f = force / p.M + p.F0 / p.M * math.sin(self._phase()) if p.F0 else force / p.M
-        x, v, y, u, side, model = self.x, self.v, self.y, self.u, self.contact, self.model
-        inline = getattr(model, "observables", None)
+        side = self.side if self.mode == STICK else 0
+        inline = self._observables
         if inline is not None:
-            return inline(x, v, y, u, side, f, ground)
+            return inline(self.x, self.v, self.y, self.u, side, f, ground)
+        x, v, y, u, model = self.x, self.v, self.y, self.u, self.model
         theta, theta_dot, alpha, alpha_dot = model.angles(x, v, y, u)
         px, _, py, _ = model.displacements(x, v, y, u)
         contact = p.m * model.contact_accel(x, v, side, f, ground) if side else 0.0
@@ -257,7 +260,7 @@ class Damper:
         self.x, self.v, self.y, self.u = state
         if tau > 0.0:
             self.fresh = False
-        e_new = self._energy()
+        e_new = self.model.energy(*state)
         self.work_in += e_new - self.energy
         self.energy = e_new
         self.t, self.t_lo = t_new, lo
