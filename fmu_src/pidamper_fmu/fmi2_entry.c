@@ -98,7 +98,7 @@ static struct {
     PyGILState_STATE (*gil_ensure)(void);
     void (*gil_release)(PyGILState_STATE);
     PyObject *(*float_from)(double);
-    PyObject *(*call)(PyObject *, ...);
+    PyObject *(*vectorcall)(PyObject *, PyObject *const *, size_t, PyObject *);
     long (*as_long)(PyObject *);
     void (*incref)(PyObject *);
     void (*decref)(PyObject *);
@@ -107,11 +107,11 @@ static struct {
 } py;
 
 static int resolve_python_api(void) {
-    void **slots[] = {(void **)&py.gil_ensure, (void **)&py.gil_release, (void **)&py.float_from, (void **)&py.call,
+    void **slots[] = {(void **)&py.gil_ensure, (void **)&py.gil_release, (void **)&py.float_from, (void **)&py.vectorcall,
                       (void **)&py.as_long, (void **)&py.incref, (void **)&py.decref, (void **)&py.getattr,
                       (void **)&py.err_clear};
     const char *names[] = {"PyGILState_Ensure", "PyGILState_Release", "PyFloat_FromDouble",
-                           "PyObject_CallFunctionObjArgs", "PyLong_AsLong", "Py_IncRef", "Py_DecRef",
+                           "PyObject_Vectorcall", "PyLong_AsLong", "Py_IncRef", "Py_DecRef",
                            "PyObject_GetAttrString", "PyErr_Clear"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
         if (!(*slots[k] = dlsym(RTLD_DEFAULT, names[k]))) return 0;
@@ -504,13 +504,13 @@ static void attach(Instance *inst) {
  * Queued messages are flushed through pythonfmu (a read of no variable), which logs them. */
 static fmi2Status direct_step(Instance *inst, double t, double h) {
     PyGILState_STATE gil = py.gil_ensure();
-    PyObject *a = py.float_from(t), *b = py.float_from(h);
-    PyObject *r = a && b ? py.call(inst->step, a, b, NULL) : NULL;
+    PyObject *args[2] = {py.float_from(t), py.float_from(h)};
+    PyObject *r = args[0] && args[1] ? py.vectorcall(inst->step, args, 2, NULL) : NULL;
     long code = r ? py.as_long(r) : -1;
     if (!r) py.err_clear();
     py.decref(r);
-    py.decref(a);
-    py.decref(b);
+    py.decref(args[0]);
+    py.decref(args[1]);
     py.gil_release(gil);
     if (code < 0) return refuse(inst, "fmi2DoStep: the model's step raised past its own guard (a bug)");
     if (code > 0) inner.fmi2GetReal(inst->inner, NULL, 0, NULL);

@@ -103,7 +103,7 @@ class Damper:
                 break
             span = min(horizon, self._max_span)
             if coast is not None and ready is None and self.mode == FREE:
-                state = coast(self.x, self.v, self.y, self.u, fc, span)  # None if a stop is within reach
+                state = coast(self.x, self.v, self.y, self.u, fc[0], fc[1], span)  # None: a stop within reach
                 if state is not None:
                     self._coast(state, span, t_end if span == horizon else None)
                     continue

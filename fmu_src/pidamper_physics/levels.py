@@ -13,6 +13,7 @@ fy = -a_g on the particle, plus the built-in harmonic a = F0/M on the primary.
   so the primary carries the particle's weight (with the particle locked to it, the pair
   swings at w2) and the particle dashpot acts on its motion relative to its pivot.
 """
+import functools
 import math
 
 from .impact import collide, impact_loss
@@ -67,15 +68,13 @@ class LinearModel(_Displacements):
     def __init__(self, p):
         self.p = p
         self.fastest = max(p.w1, p.w2, p.Omega, math.sqrt((p.w2 ** 2 + p.mu * p.w1 ** 2) / (1.0 + p.mu)))
+        # coast(x, v, y, u, fx, fy, T): the free-flight state after T if no stop is within reach,
+        # else None, without building a Flight (segments.coast); not with the built-in harmonic
+        self.coast = None if p.F0 else functools.partial(coast, p)
 
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
         return Flight(self.p, x, v, y, u, fc[0], fc[1], psi, T, always_bound)
 
-    def coast(self, x, v, y, u, fc, T):
-        """The free-flight state after T if no stop is within reach (and no built-in harmonic acts),
-        else None: the values a Flight would give, without building it (segments.coast)."""
-        p = self.p
-        return None if p.F0 else coast(p, x, v, y, u, fc[0], fc[1], T)
 
     def outside(self, x, v, y, u, fc, psi, T, side):
         return Outside(self.p, x, v, y, u, fc[0], fc[1], psi, T, side)
