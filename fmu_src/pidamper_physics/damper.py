@@ -76,6 +76,7 @@ class Damper:
         # so rounding) small and the derivative bounds tight
         self._max_span = 2.0 * math.pi / self.model.fastest
         self._coast_model = getattr(self.model, "coast", None)  # a level's segment-free flight, if any
+        self._may_coast = True  # the last piece was clear of the stops: try coasting first (a hint only)
         self._observables = getattr(self.model, "observables", None)  # a level's outputs in one call, if any
 
     # ---- public API -------------------------------------------------------------------
@@ -102,12 +103,13 @@ class Damper:
                 self.t, self.t_lo = t_end, self.t_lo + (self.t - t_end)
                 break
             span = min(horizon, self._max_span)
-            if coast is not None and ready is None and self.mode == FREE:
+            if coast is not None and ready is None and self._may_coast and self.mode == FREE:
                 state = coast(self.x, self.v, self.y, self.u, fc[0], fc[1], span)  # None: a stop within reach
                 if state is not None:
                     self._coast(state, span, t_end if span == horizon else None)
                     continue
             seg = ready or self._segment(fc, span)
+            self._may_coast = seg.clear
             if seg.reach < span:  # an integrator step (nonlinear level) ends before the span
                 span = seg.reach
             event = locate(seg, span, self.fresh)
@@ -196,6 +198,7 @@ class Damper:
         return state
 
     def set_state(self, state):
+        self._may_coast = True
         for k in STATE_KEYS:
             setattr(self, k, state.get(k, 0.0) if k == "t_lo" else state[k])
         if hasattr(self.model, "hint"):
