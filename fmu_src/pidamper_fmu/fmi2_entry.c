@@ -714,11 +714,17 @@ static fmi2Status ensure_current(Instance *inst, const fmi2ValueReference vr[], 
     return s;
 }
 
+/* A read of nvr values of type t (0 Real, 1 Integer) checked, and the buffer made current. */
+static fmi2Status prepare_read(Instance *inst, const fmi2ValueReference vr[], size_t nvr, const void *value, int t,
+                               const char *function) {
+    fmi2Status s = check_vrs(inst, vr, nvr, t ? 'I' : 'R', function, 0);
+    if (s == fmi2OK && nvr > 0 && !value) s = refuse(inst, "%s: the value array is NULL", function);
+    return s == fmi2OK ? ensure_current(inst, vr, nvr, t) : s;
+}
+
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
     ENTER(READABLE, "fmi2GetReal")
-    fmi2Status s = check_vrs(inst, vr, nvr, 'R', "fmi2GetReal", 0);
-    if (s == fmi2OK && nvr > 0 && !value) s = refuse(inst, "fmi2GetReal: the value array is NULL");
-    if (s == fmi2OK) s = ensure_current(inst, vr, nvr, 0);
+    fmi2Status s = prepare_read(inst, vr, nvr, value, 0, "fmi2GetReal");
     if (s > fmi2Warning) return s;
     for (size_t k = 0; k < nvr; k++) value[k] = inst->real[vr[k]];
     return s;
@@ -726,9 +732,7 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
 
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]) {
     ENTER(READABLE, "fmi2GetInteger")
-    fmi2Status s = check_vrs(inst, vr, nvr, 'I', "fmi2GetInteger", 0);
-    if (s == fmi2OK && nvr > 0 && !value) s = refuse(inst, "fmi2GetInteger: the value array is NULL");
-    if (s == fmi2OK) s = ensure_current(inst, vr, nvr, 1);
+    fmi2Status s = prepare_read(inst, vr, nvr, value, 1, "fmi2GetInteger");
     if (s > fmi2Warning) return s;
     for (size_t k = 0; k < nvr; k++) value[k] = inst->integer[vr[k]];
     return s;
