@@ -255,3 +255,19 @@ def test_deployed_outside_the_repository_with_only_fmpy(fmu_path, tmp_path):
                           env={k: v for k, v in os.environ.items() if k != "PYTHONPATH"})
     assert done.returncode == 0, done.stderr[-3000:]
     assert float(done.stdout.strip()) == 0.0
+
+
+def test_without_a_c_compiler_the_fmu_keeps_pythonfmus_binary(fmu_path, tmp_path, monkeypatch):
+    """A build machine without a C compiler: the layer is not installed, a warning says what that
+    costs, and the FMU keeps pythonfmu's plain binary under the model identifier."""
+    from build_fmu import native
+
+    plain = native.without_layer(fmu_path, tmp_path / "plain.fmu")
+    before = plain.read_bytes()
+    monkeypatch.setattr(native.shutil, "which", lambda name: None)
+    with pytest.warns(UserWarning, match="no C compiler"):
+        assert native.install(plain) is False
+    assert plain.read_bytes() == before
+    names = zipfile.ZipFile(plain).namelist()
+    assert "binaries/linux64/PendulumImpactDamper.so" in names
+    assert "binaries/linux64/PendulumImpactDamper_pythonfmu.so" not in names
