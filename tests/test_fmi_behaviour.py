@@ -6,6 +6,7 @@ import math
 import random
 import re
 import shutil
+import struct
 import subprocess
 import sys
 import zipfile
@@ -248,3 +249,83 @@ def test_exit_without_free_touches_no_freed_memory(fmu_path):
     records = re.split(r"^==\d+== $", done.stderr, flags=re.M)  # valgrind ends each report with an empty line
     ours = [r for r in records if "Invalid " in r and "PendulumImpactDamper" in r.split("Address")[0]]
     assert not ours, ours[0][-3000:]
+
+
+def _with_header(blob, payload):
+    """The layer's serialized state: a 24-byte header (magic, mode, time, size) before the model's JSON."""
+    magic, mode, t, _ = struct.unpack_from("=IIdQ", blob)
+    return struct.pack("=IIdQ", magic, mode, t, len(payload)) + payload
+
+
+@pytest.mark.parametrize("tamper", [
+    lambda s: s["_core"].update(x=float("nan")),
+    lambda s: s["_core"].update(mode=7),
+    lambda s: s["_core"].pop("impacts"),
+    lambda s: s.pop("g"),
+    lambda s: s.update(F="%s%s"),
+    lambda s: s["_record"].pop(),
+], ids=["non-finite x", "no such mode", "missing impacts", "missing parameter", "string input", "short record"])
+def test_a_state_that_does_not_come_from_the_model_is_refused(fmu_path, unzipped, tamper):
+    """A de-serialized state whose content this model did not write is refused with fmi2Error;
+    the model's own state then restores, and the run goes on bit for bit."""
+    import json
+
+    fmu, vr = _slave(fmu_path, unzipped, "tampered")
+    fmu.instantiate()
+    _init(fmu, vr, FREE)
+    times = [0.05 * k for k in range(1, 31)]
+    _steps(fmu, vr, times)
+    own = fmu.getFMUstate()
+    blob = bytes(fmu.serializeFMUstate(own))
+    content = json.loads(blob[24:])
+    tamper(content)
+    foreign = fmu.deSerializeFMUstate(_with_header(blob, json.dumps(content).encode()))
+    with pytest.raises(fmpy.fmi1.FMICallException) as refused:
+        fmu.setFMUstate(foreign)
+    assert refused.value.status == 3
+    fmu.setFMUstate(own)  # FMI 2.0: after fmi2Error, restart from a saved state
+    after = list(_continue(fmu, vr, times[-1], [times[-1] + 0.05 * k for k in range(1, 20)]))
+    fmu.freeFMUstate(foreign)
+    fmu.freeFMUstate(own)
+    fmu.freeInstance()
+    clean, vr2 = _slave(fmu_path, unzipped, "clean")
+    clean.instantiate()
+    _init(clean, vr2, FREE)
+    _steps(clean, vr2, times)
+    assert after == list(_continue(clean, vr2, times[-1], [times[-1] + 0.05 * k for k in range(1, 20)]))
+    clean.terminate()
+    clean.freeInstance()
+
+
+def test_foreign_state_messages_name_the_key(fmu_path, tmp_path):
+    """The refusal's message names the key, its value and the rule (child process: messages read
+    from the host's logger)."""
+    script = r'''
+import json, struct, sys, fmpy
+from fmpy.fmi2 import FMU2Slave
+from fmpy.fmi1 import FMICallException
+md = fmpy.read_model_description(sys.argv[1])
+vr = {v.name: v.valueReference for v in md.modelVariables}
+log = []
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(sys.argv[1]), modelIdentifier="PendulumImpactDamper",
+                instanceName="s")
+fmu.instantiate(loggingOn=False)
+fmu.setupExperiment(startTime=0.0); fmu.enterInitializationMode(); fmu.exitInitializationMode()
+fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=0.5)
+blob = bytes(fmu.serializeFMUstate(fmu.getFMUstate()))
+content = json.loads(blob[24:]); content["_core"]["x"] = float("nan")
+payload = json.dumps(content).encode()
+magic, mode, t, _ = struct.unpack_from("=IIdQ", blob)
+foreign = fmu.deSerializeFMUstate(struct.pack("=IIdQ", magic, mode, t, len(payload)) + payload)
+try:
+    fmu.setFMUstate(foreign)
+except FMICallException as err:
+    print("refused", err.status)
+fmu.setFMUstate(fmu.deSerializeFMUstate(blob))  # its own state still restores
+fmu.doStep(currentCommunicationPoint=0.5, communicationStepSize=0.5)
+print("stepped")
+'''
+    done = subprocess.run([sys.executable, "-c", script, str(fmu_path)], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "refused 3" in done.stdout and "stepped" in done.stdout
+    assert "s: state x = nan is not allowed: it must be a finite number" in done.stdout + done.stderr

@@ -28,7 +28,7 @@ from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
 from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, Damper, ParameterError, Params, SmallAngleMonitor
-from pidamper_physics.params import NONLINEAR, check_restitution
+from pidamper_physics.params import NONLINEAR, check_finite, check_restitution
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
@@ -119,6 +119,8 @@ _TIME_TOLERANCE = 1e-9  # relative mismatch of a step's start time accepted from
 _PACK_COMPUTED = struct.Struct(f"={len(COMPUTED)}d")
 _PACK_RECORD = struct.Struct(f"={len(RECORD)}d")
 _ZERO_RECORD = (0.0,) * (NR * IMPACT_SLOTS) + (0,) * IMPACT_SLOTS
+_STATE_KEYS = frozenset([name for name, *_ in PARAMETERS]
+                        + ["F", "a_g", "_t0", "_initialized", "_core", "_in_step", "_record", "_monitor"])
 LINK = "_native_link"  # hidden String variable (last value reference, not in modelDescription.xml)
 
 
@@ -294,7 +296,7 @@ class PendulumImpactDamper(Fmi2Slave):
 
     def _report(self, err):
         """Log a refused call at error level (the native layer then answers fmi2Error)."""
-        text = str(err) if isinstance(err, Refusal) else f"{type(err).__name__}: {err}"
+        text = str(err) if isinstance(err, (Refusal, ParameterError)) else f"{type(err).__name__}: {err}"
         self.log(_fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.error)
 
     def _core_now(self):
@@ -446,22 +448,50 @@ class PendulumImpactDamper(Fmi2Slave):
 
     @_guarded(lambda args: None)
     def _set_fmu_state(self, state):
+        """Restore a state _get_fmu_state wrote; one that does not come from this model is refused
+        with a message naming the key, and the instance keeps the state it had."""
+        previous = self._get_fmu_state()
+        try:
+            self._restore(state)
+        except Exception:
+            self._restore(previous)
+            raise
+
+    def _restore(self, state):
+        if not isinstance(state, dict) or set(state) != _STATE_KEYS:
+            got = sorted(state) if isinstance(state, dict) else type(state).__name__
+            raise Refusal(f"FMU state = {got!r} is not allowed: a state of this model has exactly the keys "
+                          f"{sorted(_STATE_KEYS)}")
+        for name in ("F", "a_g", "_t0"):
+            check_finite(f"FMU state {name}", state[name])
+        record = state["_record"]
+        if (not isinstance(record, list) or len(record) != len(_ZERO_RECORD)
+                or type(state["_in_step"]) is not int or state["_in_step"] < 0):
+            raise Refusal(f"FMU state _record, _in_step = {record!r}, {state['_in_step']!r} is not allowed: "
+                          f"{len(_ZERO_RECORD)} numbers and an integer >= 0")
+        for k, value in enumerate(record):
+            check_finite(f"FMU state _record[{k}]", value)
         for name, *_ in PARAMETERS:
             setattr(self, name, state[name])
         self.F = state["F"]
         self.a_g = state["a_g"]
         self._t0 = state["_t0"]
-        self._initialized = state["_initialized"]
+        self._initialized = bool(state["_initialized"])
         self._in_step = state["_in_step"]
-        self._record_values[:] = state["_record"]
+        self._record_values[:] = record
         self._record_in_buffer = True
         self._core = None
         if self._initialized:
-            core = self._build_core()
+            core = self._core_now()
             core.set_state(dict(state["_core"]))
-            self._core = core
-            if state["_monitor"] is not None:
-                self._monitor.set_state(state["_monitor"])
+            monitor = state["_monitor"]
+            if self._monitor is not None and monitor is not None:
+                if not (isinstance(monitor, list) and len(monitor) == 3):
+                    raise Refusal(f"FMU state _monitor = {monitor!r} is not allowed: [warned, bar, bar]")
+                bars = monitor[1:]  # squared swings; inf stands for "never" (a particle without mass)
+                if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and v == v for v in bars):
+                    raise Refusal(f"FMU state _monitor = {monitor!r} is not allowed: two numbers after the flag")
+                self._monitor.set_state([bool(monitor[0])] + [float(v) for v in bars])
 
     # ---- modelDescription -----------------------------------------------------------
 

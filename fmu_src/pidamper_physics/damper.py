@@ -42,6 +42,30 @@ STATE_KEYS = ("t", "t_lo", "x", "v", "y", "u", "mode", "side", "fresh", "impacts
               "work_in", "viscous", "energy")
 
 
+_STATE_CHOICES = {"mode": (FREE, STICK, OUTSIDE), "side": (-1, 0, 1), "fresh": (False, True)}
+
+
+def check_state(state):
+    """Refuse a state dict that Damper.get_state did not write: missing keys, wrong types,
+    non-finite numbers, a negative impact count (t_lo may be absent: states of older builds)."""
+    if not isinstance(state, dict):
+        raise ParameterError("state", type(state).__name__, "it must be the dict Damper.get_state writes")
+    for key in STATE_KEYS + ("step_hint",):
+        if key not in state:
+            if key == "t_lo":
+                continue
+            raise ParameterError(f"state {key}", None, "the key is missing: a state this model did not write")
+        value = state[key]
+        if key in _STATE_CHOICES:
+            if type(value) not in (int, bool) or value not in _STATE_CHOICES[key]:
+                raise ParameterError(f"state {key}", value, f"it must be one of {_STATE_CHOICES[key]}")
+        elif key == "impacts":
+            if type(value) is not int or value < 0:
+                raise ParameterError(f"state {key}", value, "it must be an integer >= 0")
+        else:
+            check_finite(f"state {key}", value)
+
+
 class Damper:
     """Event-driven pendulum impact damper; see the module doc for the rules."""
 
@@ -198,6 +222,9 @@ class Damper:
         return state
 
     def set_state(self, state):
+        """Restore a dict get_state() wrote; anything else is refused (ParameterError naming the
+        key, its value and the rule) before the state changes."""
+        check_state(state)
         self._may_coast = True
         for k in STATE_KEYS:
             setattr(self, k, state.get(k, 0.0) if k == "t_lo" else state[k])
