@@ -309,7 +309,7 @@ vr = {v.name: v.valueReference for v in md.modelVariables}
 log = []
 fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(sys.argv[1]), modelIdentifier="PendulumImpactDamper",
                 instanceName="s")
-fmu.instantiate(loggingOn=False)
+fmu.instantiate(loggingOn=True)
 fmu.setupExperiment(startTime=0.0); fmu.enterInitializationMode(); fmu.exitInitializationMode()
 fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=0.5)
 blob = bytes(fmu.serializeFMUstate(fmu.getFMUstate()))

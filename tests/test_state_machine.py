@@ -67,7 +67,7 @@ callbacks = Callbacks(logger, ctypes.cast(libc.calloc, c_void_p), ctypes.cast(li
 lib.fmi2Instantiate.restype = c_void_p
 lib.fmi2Instantiate.argtypes = [c_char_p, c_int, c_char_p, c_char_p, POINTER(Callbacks), c_int, c_int]
 c = lib.fmi2Instantiate(b"table", 1, guid.encode(), ("file://" + unzipped + "/resources").encode(),
-                        byref(callbacks), 0, 0)
+                        byref(callbacks), 0, 1)  # logging on: the host wants the messages
 assert c, messages
 c = c_void_p(c)
 def vrs(*names):
@@ -93,7 +93,7 @@ if state != "instantiated":  # a state to restore, taken where it is allowed
     assert st("fmi2GetFMUstate", byref(saved)) == 0
     lib.fmi2FreeInstance(c)
     c = c_void_p(lib.fmi2Instantiate(b"table", 1, guid.encode(), ("file://" + unzipped + "/resources").encode(),
-                                     byref(callbacks), 0, 0))
+                                     byref(callbacks), 0, 1))
     saved = c_void_p()
 go(state)
 if saved.value is None:

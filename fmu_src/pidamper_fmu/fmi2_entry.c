@@ -20,8 +20,10 @@
  *   without entering Python.  Parameters are read from Python once and cached until set.
  * - Steps.  fmi2DoStep calls the model's step method directly (one Python call); the model's
  *   messages still travel through pythonfmu's log queue, flushed when there are any.
- * - Messages reach the host's logger as a "%s" argument, never as a format; warnings and errors
- *   always, the rest when the host turned logging on.
+ * - Messages reach the host's logger as a "%s" argument, never as a format, when the host turned
+ *   logging on (as pythonfmu: fmpy's logger proxy keeps one global target, which dangles after a
+ *   simulate_fmu call, so an FMU that logs with logging off can crash fmpy hosts).  Only a failed
+ *   fmi2Instantiate always says why: there is no instance to turn logging on for.
  */
 #ifndef _GNU_SOURCE
 #define _GNU_SOURCE 1
@@ -154,7 +156,7 @@ static void say(const fmi2CallbackFunctions *host, const char *name, int logging
                 const char *category, const char *fmt, ...) {
     char text[4096];
     va_list ap;
-    if (!host || !host->logger || (status < fmi2Error && !logging_on)) return;
+    if (!host || !host->logger || !logging_on) return;
     va_start(ap, fmt);
     vsnprintf(text, sizeof text, fmt, ap);
     va_end(ap);
@@ -176,7 +178,7 @@ static fmi2Status refuse(Instance *inst, const char *fmt, ...) {
     va_start(ap, fmt);
     vsnprintf(text, sizeof text, fmt, ap);
     va_end(ap);
-    say(&inst->host, inst->name, 1, fmi2Error, "logStatusError", "%s: %s", inst->name, text);
+    say(&inst->host, inst->name, inst->logging_on, fmi2Error, "logStatusError", "%s: %s", inst->name, text);
     fail(inst, fmi2Error); /* FMI 2.0: after fmi2Error only a restart */
     return fmi2Error;
 }
@@ -445,7 +447,7 @@ static fmi2Status settle(Instance *inst, fmi2Status status) {
 
 static fmi2Status allowed(Instance *inst, unsigned mask, const char *function) {
     if (inst->mode == FATAL) {
-        say(&inst->host, inst->name, 1, fmi2Fatal, "logStatusFatal",
+        say(&inst->host, inst->name, inst->logging_on, fmi2Fatal, "logStatusFatal",
             "%s: %s refused: the instance failed fatally before; free it", inst->name, function);
         return fmi2Fatal;
     }

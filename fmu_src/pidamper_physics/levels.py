@@ -67,7 +67,7 @@ class LinearModel(_Displacements):
 
     def __init__(self, p):
         self.p = p
-        self.fastest = max(p.w1, p.w2, p.Omega, math.sqrt((p.w2 ** 2 + p.mu * p.w1 ** 2) / (1.0 + p.mu)))
+        self.fastest = max(p.w1, p.w2, p.Omega_acting, math.sqrt((p.w2 ** 2 + p.mu * p.w1 ** 2) / (1.0 + p.mu)))
         # coast(x, v, y, u, fx, fy, T): the free-flight state after T if no stop is within reach,
         # else None, without building a Flight (segments.coast); not with the built-in harmonic
         self.coast = None if p.F0 else functools.partial(coast, p)
@@ -135,7 +135,7 @@ class ModalModel(_Displacements):
             raise ParameterError("mu, FR", (mu, p.FR), f"the coupled level needs distinct modes: {err}") from None
         self.ride = (Modes([[ks]], [[cs1]]), [[ks]], [[cs1]])
         self.K, self.C, self.ks, self.cs1, self.cp = K, C, ks, cs1, cp
-        self.fastest = max(self.free[0].fastest, self.ride[0].fastest, p.Omega)
+        self.fastest = max(self.free[0].fastest, self.ride[0].fastest, p.Omega_acting)
 
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
         p = self.p

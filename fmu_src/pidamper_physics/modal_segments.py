@@ -28,7 +28,7 @@ class ModalFlight:
         f = (a, 0.0) if a != 0.0 else None
         self.motion = motion = Motion(modes, z0, b, f, om, psi)
         self.K, self.C, self.b, self.f, self.om, self.D = K, C, b, a, om, D
-        self.growth = max(modes.fastest, om)
+        self.growth = max(modes.fastest, om if a != 0.0 else 0.0)
         B = motion.bounds(T, _ORDERS)
         rest = motion.rest()
         zmax = abs(rest[0] - rest[1]) + B[0][0] + B[1][0]
@@ -74,7 +74,7 @@ class ModalStick:
         self.motion = motion = Motion(modes, (x, v), (b,), (a,) if a != 0.0 else None, om, psi)
         self.k, self.c, self.b, self.a, self.om, self.sgn, self.d = K[0][0], C[0][0], b, a, om, sgn, d
         self.kx, self.kv, self.k0 = contact  # N/m = kx x + kv v + k0 + a sin (x'' folded in)
-        self.growth = max(modes.fastest, om)
+        self.growth = max(modes.fastest, om if a != 0.0 else 0.0)
         B = motion.bounds(T, _ORDERS)
         rest = motion.rest()[0]
         kx, kv, aa = abs(self.kx), abs(self.kv), abs(a)

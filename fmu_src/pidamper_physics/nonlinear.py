@@ -179,7 +179,7 @@ class NonlinearModel:
         self.mu, self.L1, self.L2, self.g = p.mu, p.L1, p.L2, p.g
         self.cs, self.cp = 2.0 * p.zeta_s * p.w2, 2.0 * p.zeta_p * p.w1
         self.a, self.om = p.F0 / p.M, p.Omega
-        self.fastest = max(p.w1, p.w2, p.Omega) * math.sqrt(1.0 + p.mu)
+        self.fastest = max(p.w1, p.w2, p.Omega_acting) * math.sqrt(1.0 + p.mu)
         self.hint = 0.05 / self.fastest
 
     def load(self, fx, tau, psi):

@@ -78,12 +78,32 @@ class Params:
         self.fidelity, self.zeta_s, self.zeta_p = int(fidelity), float(zeta_s), float(zeta_p)
         self.m = self.mu * self.M
         self.L1 = self.L2 / (self.FR * self.FR)
+        self._check_scale("L1 = L2/FR^2", self.L1)
         self.w2 = math.sqrt(self.g / self.L2)
         self.w1 = math.sqrt(self.g / self.L1)
+        # the built-in harmonic's frequency where it acts (0 without it: a frequency that acts on
+        # nothing sets no step size and no rounding allowance)
+        self.Omega_acting = self.Omega if self.F0 else 0.0
+        self._check_scales()
         if self.contact_form == DISPLACEMENT:
             self.cx, self.cy, self.D = 1.0, 1.0, self.d
         else:
             self.cx, self.cy, self.D = 1.0 / self.L2, 1.0 / self.L1, self.d_angle
+
+    def _check_scales(self):
+        """Refuse parameter sets whose derived quantities the float arithmetic cannot hold (they
+        overflow to inf or underflow to 0): the motion could not be computed, and a step would
+        make no progress."""
+        for what, value in (("w1 = sqrt(g/L1)", self.w1), ("w2 = sqrt(g/L2)", self.w2),
+                            ("w1^2 mu + w2^2", self.w1 * self.w1 * self.mu + self.w2 * self.w2),
+                            ("m = mu M", self.m if self.mu > 0.0 else 1.0)):
+            self._check_scale(what, value)
+
+    def _check_scale(self, what, value):
+        if not (math.isfinite(value) and value > 0.0):
+            raise ParameterError("g, M, mu, L2, FR", (self.g, self.M, self.mu, self.L2, self.FR),
+                                 f"together they make {what} = {value!r}, which float arithmetic cannot hold "
+                                 "(choose scales whose products stay within about 1e-300 to 1e300)")
 
     def as_dict(self):
         return {name: getattr(self, name) for name in self.NAMES}

@@ -38,7 +38,7 @@ def coast(p, x, v, y, u, fx, fy, T):
     a1, b1 = y - ye, u / w1
     D = p.D
     zmax = p.cx * (abs(xe) + math.hypot(a2, b2)) + p.cy * (abs(ye) + math.hypot(a1, b1))
-    if not zmax < D - TOLERANCE * (D + zmax) * (1.0 + max(w1, w2, p.Omega) * T):
+    if not zmax < D - TOLERANCE * (D + zmax) * (1.0 + max(w1, w2, p.Omega_acting) * T):
         return None
     s2, c2 = math.sin(w2 * T), math.cos(w2 * T)
     s1, c1 = math.sin(w1 * T), math.cos(w1 * T)
@@ -70,7 +70,7 @@ class Flight:
         xh, vh = px.harmonic_bounds(T)
         zmax = cx * (abs(px.xe) + px.R + xh) + cy * (abs(py.xe) + py.R)
         tol = TOLERANCE
-        self.growth = max(p.w1, p.w2, p.Omega)
+        self.growth = max(p.w1, p.w2, p.Omega_acting)
         n0 = tol * (D + zmax)
         self.clear = zmax < D - n0 * (1.0 + self.growth * T)
         if self.clear and not always_bound:  # no stop within reach: bounds and noise are not needed
@@ -177,7 +177,7 @@ class Stick:
         aa, om = abs(a), p.Omega
         self.bounds = tuple(abs(k) * P[j] + aa * om ** j for j in (2, 3, 4))
         tol = TOLERANCE
-        self.growth = max(big_w, p.Omega)
+        self.growth = max(big_w, p.Omega_acting)
         self.noise = (tol * (abs(k) * (abs(osc.xe) + P[0]) + ww1 * (abs(osc.xe) + d) + aa + abs(fy)),
                       tol * (abs(k) * P[1] + aa * om),
                       tol * (abs(k) * (P[2] + osc.ww * abs(osc.xe)) + aa * om * om),
