@@ -188,23 +188,19 @@ class Damper:
     def acceleration(self, force=0.0, ground=0.0):
         """Primary acceleration [m/s2] (relative to the ground) under held force `force` [N] and
         ground acceleration `ground` [m/s2]."""
-        p = self.p
-        f = force / p.M + p.F0 / p.M * math.sin(self._phase()) if p.F0 else force / p.M
-        return self.model.acceleration(self.x, self.v, self.y, self.u, self.contact, f, ground)
+        return self.model.acceleration(self.x, self.v, self.y, self.u, self.contact, self._applied(force), ground)
 
     def contact_force(self, force=0.0, ground=0.0):
         """Force [N] of the stop on the particle while it rides a stop, else 0."""
         if self.mode != STICK:
             return 0.0
-        p = self.p
-        f = force / p.M + p.F0 / p.M * math.sin(self._phase())
-        return p.m * self.model.contact_accel(self.x, self.v, self.side, f, ground)
+        return self.p.m * self.model.contact_accel(self.x, self.v, self.side, self._applied(force), ground)
 
     def observables(self, force=0.0, ground=0.0):
         """(theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force) in one call [rad, rad/s, m,
         m/s2, N]: the values of angles(), displacements(), acceleration() and contact_force()."""
         p = self.p
-        f = force / p.M + p.F0 / p.M * math.sin(self._phase()) if p.F0 else force / p.M
+        f = self._applied(force)
         side = self.side if self.mode == STICK else 0
         inline = self._observables
         if inline is not None:
@@ -294,6 +290,11 @@ class Damper:
         self.work_in += e_new - self.energy
         self.energy = e_new
         self.t, self.t_lo = t_new, lo
+
+    def _applied(self, force):
+        """Applied force per primary mass [m/s2]: the held `force` [N] and the built-in harmonic."""
+        p = self.p
+        return force / p.M + p.F0 / p.M * math.sin(self._phase()) if p.F0 else force / p.M
 
     def _phase(self):
         """Phase [rad] of the built-in harmonic force at the state's time."""

@@ -75,7 +75,6 @@ class LinearModel(_Displacements):
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
         return Flight(self.p, x, v, y, u, fc[0], fc[1], psi, T, always_bound)
 
-
     def outside(self, x, v, y, u, fc, psi, T, side):
         return Outside(self.p, x, v, y, u, fc[0], fc[1], psi, T, side)
 
