@@ -754,26 +754,31 @@ fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 
 #define SETTABLE (M(INSTANTIATED) | M(INIT_MODE) | M(STEP_COMPLETE))
 
-fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
-    ENTER(SETTABLE, "fmi2SetReal")
-    fmi2Status s = check_vrs(inst, vr, nvr, 'R', "fmi2SetReal", 1);
-    if (s == fmi2OK && nvr > 0 && !value) s = refuse(inst, "fmi2SetReal: the value array is NULL");
-    if (s != fmi2OK) return s;
-    s = settle(inst, inner.fmi2SetReal(inst->inner, vr, nvr, value));
+/* A write of nvr values of `type` checked before it reaches Python. */
+static fmi2Status prepare_write(Instance *inst, const fmi2ValueReference vr[], size_t nvr, const void *value,
+                                char type, const char *function) {
+    fmi2Status s = check_vrs(inst, vr, nvr, type, function, 1);
+    if (s == fmi2OK && nvr > 0 && !value) s = refuse(inst, "%s: the value array is NULL", function);
+    return s;
+}
+
+/* After a write: the written values and every output are read from the model again. */
+static fmi2Status written(Instance *inst, const fmi2ValueReference vr[], size_t nvr, fmi2Status status) {
     inst->volatile_valid[0] = inst->volatile_valid[1] = 0;
     for (size_t k = 0; k < nvr; k++) inst->fixed_valid[vr[k]] = 0;
-    return s;
+    return settle(inst, status);
+}
+
+fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
+    ENTER(SETTABLE, "fmi2SetReal")
+    fmi2Status s = prepare_write(inst, vr, nvr, value, 'R', "fmi2SetReal");
+    return s != fmi2OK ? s : written(inst, vr, nvr, inner.fmi2SetReal(inst->inner, vr, nvr, value));
 }
 
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {
     ENTER(SETTABLE, "fmi2SetInteger")
-    fmi2Status s = check_vrs(inst, vr, nvr, 'I', "fmi2SetInteger", 1);
-    if (s == fmi2OK && nvr > 0 && !value) s = refuse(inst, "fmi2SetInteger: the value array is NULL");
-    if (s != fmi2OK) return s;
-    s = settle(inst, inner.fmi2SetInteger(inst->inner, vr, nvr, value));
-    inst->volatile_valid[0] = inst->volatile_valid[1] = 0;
-    for (size_t k = 0; k < nvr; k++) inst->fixed_valid[vr[k]] = 0;
-    return s;
+    fmi2Status s = prepare_write(inst, vr, nvr, value, 'I', "fmi2SetInteger");
+    return s != fmi2OK ? s : written(inst, vr, nvr, inner.fmi2SetInteger(inst->inner, vr, nvr, value));
 }
 
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[]) {
