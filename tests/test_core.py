@@ -391,4 +391,4 @@ def test_coasting_fast_path_equals_the_segment_path_bit_for_bit(case):
     impacts = runs[0][-1]["impacts"]
     assert (impacts > 20) == (case in ("impacts and sticking", "resonance reaching the stops", "long steps",
                                        "angle form"))
-    assert (coasted[0] > 100) == (case in ("no contact", "resonance reaching the stops", "ground motion"))
+    assert (coasted[0] > 100) == (case != "long steps"), coasted  # the fast path was taken (between impacts too: its Taylor reach is tight)

@@ -157,7 +157,7 @@ def test_coupled_sticking_rides_the_stop_and_releases_like_the_reference():
     (dict(fidelity=DAMPED, zeta_p=-0.1), "zeta_p"),
     (dict(fidelity=4), "fidelity"),
     (dict(fidelity=DAMPED, contact_form=1), "contact_form"),
-    (dict(fidelity=COUPLED, mu=0.0, FR=1.0), "mu, FR"),
+    (dict(fidelity=COUPLED, mu=0.0, FR=1.0), "mu, FR, zeta_s, zeta_p"),
 ])
 def test_a_level_refuses_what_it_cannot_model(kwargs, name):
     with pytest.raises(ParameterError) as err:

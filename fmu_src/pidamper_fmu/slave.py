@@ -174,9 +174,11 @@ class PendulumImpactDamper(Fmi2Slave):
         self.F = 0.0
         self.a_g = 0.0
         self.register_variable(Real("F", causality=Fmi2Causality.input, variability=Fmi2Variability.continuous,
-                                    description="horizontal force on the primary mass [N]"))
+                                    description="horizontal force on the primary mass [N]",
+                                    setter=self._input_setter("F")))
         self.register_variable(Real("a_g", causality=Fmi2Causality.input, variability=Fmi2Variability.continuous,
-                                    description="ground acceleration of a base excitation [m/s2]"))
+                                    description="ground acceleration of a base excitation [m/s2]",
+                                    setter=self._input_setter("a_g")))
         for name, kind, start, *_ in PARAMETERS:
             setattr(self, name, start)
             tunable = name == "e"
@@ -197,6 +199,14 @@ class PendulumImpactDamper(Fmi2Slave):
                                       setter=self._attach))
         vr = {var.name: vr for vr, var in self.vars.items()}
         self._offsets = (8 * vr[OUTPUTS[0][0]], 8 * vr[RECORD[0][0]])
+
+    def _input_setter(self, name):
+        """fmi2SetReal of an input: a value that is not finite is refused there, before any step."""
+        def set_input(value):
+            if value - value != 0.0:
+                self._fail(name, value, "the input must be finite")
+            setattr(self, name, value)
+        return set_input
 
     def _register_computed(self, name, kind, causality, getter):
         self.register_variable(kind(name, causality=causality, initial=Fmi2Initial.calculated,
@@ -283,6 +293,7 @@ class PendulumImpactDamper(Fmi2Slave):
         params = Params(**{name: getattr(self, name) for name in Params.NAMES})
         core = Damper(params, self.theta_0, self.theta_dot_0, self.alpha_0, self.alpha_dot_0, self._t0)
         core.on_impact = self._record
+        core.bound_work()  # fmi2DoStep cannot be interrupted: a step's work is capped
         limit = self.angle_limit
         if not (math.isfinite(limit) and limit >= 0.0):
             raise ParameterError("angle_limit", limit, "it must be finite and >= 0 (0 turns the warning off)")

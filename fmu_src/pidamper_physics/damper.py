@@ -31,12 +31,19 @@ import math
 from .events import CROSS, locate, classify, resolution_speed
 from .levels import model_for
 from .params import DISPLACEMENT, Params, ParameterError, check_finite, check_restitution
+from .segments import GAP_RESOLUTION, TOLERANCE
 
 FREE = 0     # both bodies swing freely inside the gap
 STICK = 1    # the particle rides stop `side` (displacement form)
 OUTSIDE = 2  # angle form: the bodies have passed through stop `side`
 
 CHATTER_HEIGHT = 16.0  # rebound apex, in position-rounding units, below which chatter collapses
+
+#: most pieces (loop passes of Damper.advance: a smooth piece, or a piece that ends at an event)
+#: one call may take, divided by the level's `piece_weight` (an integrator step of the nonlinear
+#: level costs about five closed-form pieces); a step that needs more is refused (FMI 2.0 cannot
+#: interrupt fmi2DoStep): about 0.3 s of work on the 2-core machine at every level
+MAX_PIECES = 10000
 
 STATE_KEYS = ("t", "t_lo", "x", "v", "y", "u", "mode", "side", "fresh", "impacts", "dissipated",
               "work_in", "viscous", "energy")
@@ -102,6 +109,8 @@ class Damper:
         self._coast_model = getattr(self.model, "coast", None)  # a level's segment-free flight, if any
         self._may_coast = True  # the last piece was clear of the stops: try coasting first (a hint only)
         self._observables = getattr(self.model, "observables", None)  # a level's outputs in one call, if any
+        self.pieces = 0  # loop passes of the last advance (see its progress argument)
+        self.max_pieces = math.inf  # no cap on a call's work unless bound_work() sets one
 
     # ---- public API -------------------------------------------------------------------
 
@@ -118,10 +127,27 @@ class Damper:
             check_finite("t_end", t_end)
         if t_end < self.t:
             raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
+        cap = self.max_pieces
+        if t_end - self.t > self._max_span * cap:
+            self._too_long(t_end)
         fc = (force / self.p.M - ground, -ground)  # loads per mass on the primary and the particle
         ready = None  # a flight segment already built at the current state by the last event
         coast = self._coast_model if observe is None else None
+        # Progress: a pass either ends the call (the piece reaches t_end), moves the state by a
+        # whole span (_max_span, one period of the fastest motion: at most h / _max_span such
+        # passes), or moves it to an event and handles it.  An event switches the mode and sets
+        # `fresh`, so locate does not report the same instant again: the next event lies at
+        # tau > 0 (events.py: every locate pass advances tau by at least one ulp, at most
+        # events.MAX_PASSES passes).  Hence passes <= h / _max_span + 2 (events + 1) for the
+        # closed-form levels (the nonlinear one adds its integrator steps, seg.reach): finite, as
+        # the events are (chatter collapses below CHATTER_HEIGHT), and capped at max_pieces, so
+        # no input makes a call run on without bound.
+        pieces = 0
+        impacts = self.impacts
         while self.t < t_end:
+            pieces += 1
+            if pieces > cap:
+                self._too_many(t_end, self.impacts - impacts)
             horizon = (t_end - self.t) - self.t_lo
             if horizon <= 0.0:  # the state is already at t_end; the clock catches up
                 self.t, self.t_lo = t_end, self.t_lo + (self.t - t_end)
@@ -133,7 +159,9 @@ class Damper:
                     self._coast(state, span, t_end if span == horizon else None)
                     continue
             seg = ready or self._segment(fc, span)
-            self._may_coast = seg.clear
+            self._may_coast = clear = seg.clear
+            if not clear and self.mode == FREE and seg.noise[0] * GAP_RESOLUTION > self.p.D:
+                self._unresolved(seg.noise[0])
             if seg.reach < span:  # an integrator step (nonlinear level) ends before the span
                 span = seg.reach
             event = locate(seg, span, self.fresh)
@@ -144,6 +172,10 @@ class Damper:
             tau, kind, guard = event
             self._move(seg, tau, t_end if tau >= horizon else None, fc, observe)
             ready = self._handle(kind, 1 - 2 * guard, fc, min(t_end - self.t, self._max_span))
+        self.pieces = pieces
+        check = self.x + self.v + self.y + self.u + self.energy + self.work_in
+        if check - check != 0.0:  # a value overflowed: refuse rather than answer inf or nan
+            self._overflowed(force, ground)
 
     def dense(self, times, force=0.0, ground=0.0):
         """Advance to times[-1] and return x, v, y, u [m, m/s] at the sorted times (>= now) from
@@ -167,6 +199,11 @@ class Damper:
         while len(rows) < len(times):  # times equal to the end, after the last piece
             rows.append((self.x, self.v, self.y, self.u))
         return rows
+
+    def bound_work(self):
+        """Cap each advance() at MAX_PIECES / the level's piece_weight pieces, refusing a call that
+        needs more (for hosts that cannot interrupt a call, such as fmi2DoStep)."""
+        self.max_pieces = MAX_PIECES // getattr(self.model, "piece_weight", 1)
 
     def set_restitution(self, e):
         self.p.e = check_restitution(e)
@@ -241,6 +278,32 @@ class Damper:
         if self.mode == OUTSIDE:
             return model.outside(self.x, self.v, self.y, self.u, fc, psi, horizon, self.side)
         return model.flight(self.x, self.v, self.y, self.u, fc, psi, horizon)
+
+    def _too_long(self, t_end):
+        p = self.p
+        raise ParameterError("step", t_end - self.t, f"one call may take at most {self.max_pieces} pieces, each at most "
+                             f"one period {self._max_span:.6g} s of the fastest motion "
+                             f"({2.0 * math.pi / self._max_span:.6g} rad/s, from g, L2, FR, mu"
+                             f"{', Omega' if p.Omega_acting else ''}), so at most "
+                             f"{self.max_pieces * self._max_span:.6g} s: take shorter communication steps")
+
+    def _too_many(self, t_end, impacts):
+        raise ParameterError("step", t_end - self.t, f"it needed more than {self.max_pieces} pieces by t = {self.t!r} s "
+                             f"({impacts} impacts among them: a chatter or impact sequence too dense for one call; "
+                             "the state is left there): take shorter communication steps")
+
+    def _unresolved(self, noise):
+        p = self.p
+        name = "d" if p.contact_form == DISPLACEMENT else "d_angle"
+        raise ParameterError(name, p.D, f"the motion here reaches {noise / TOLERANCE:.6g} m, so the gap is known to "
+                             f"{noise:.3g} only, more than 1/{GAP_RESOLUTION:g} of the clearance: contacts cannot "
+                             f"be resolved at t = {self.t!r} s (raise {name}, or lower the loads that drive the "
+                             "motion: F, a_g, F0)")
+
+    def _overflowed(self, force, ground):
+        raise ParameterError("F, a_g", (force, ground), f"the motion they drive (with the parameters {self.p.as_dict()}) "
+                             f"leaves the range of float arithmetic by t = {self.t!r} s (x = {self.x!r}, "
+                             f"energy = {self.energy!r}); the state is left there")
 
     def _move(self, seg, tau, t_end, fc, observe):
         """Take the state at tau of the segment, tick the clock by tau (t_end: the piece ends

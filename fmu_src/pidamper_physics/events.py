@@ -27,17 +27,24 @@ rounding level:
   guards) lifts it above rounding level.
 
 Every pass of the loop advances tau by at least one ulp or returns, so the
-search terminates.  Right after a mode switch (``fresh``) the point tau = 0 is
+search terminates; a search that would take more than MAX_PASSES passes (a guard
+that hovers just above its rounding level for that long) is refused with a
+ParameterError instead of running on.  Right after a mode switch (``fresh``) the point tau = 0 is
 never reported again, which rules out ping-pong between two modes at one
 instant.
 """
 import math
 import struct
 
+from .params import ParameterError
+
 CROSS = 1  # transversal zero crossing, found to machine precision
 TOUCH = 2  # zero reached (or already passed) at an approach speed below resolution
 
 _INF = math.inf
+
+#: most passes one locate call makes (a few are typical: the safe steps grow geometrically)
+MAX_PASSES = 10000
 
 
 def next_up(x):
@@ -95,7 +102,7 @@ def locate(seg, tau_end, fresh=False):
     base0, growth = base[0], seg.growth
     b2 = seg.bounds[0]
     tau = 0.0
-    while True:
+    for _ in range(MAX_PASSES):
         step = _INF
         near = -1
         n0 = base0 * (1.0 + growth * tau)  # rounding level of the guards at tau
@@ -139,6 +146,8 @@ def locate(seg, tau_end, fresh=False):
         tau = max(tau + step, next_up(tau))
         if tau >= tau_end:
             return None
+    raise ParameterError("step", tau_end, f"locating the next contact took more than {MAX_PASSES} passes (a guard "
+                         f"hovering just above its rounding level {seg.noise[0]!r}): take shorter steps")
 
 
 def _newton(seg, i, tau, g, g1):

@@ -20,7 +20,7 @@ from .impact import collide, impact_loss
 from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work
 from .nonlinear import NonlinearModel
-from .params import COUPLED, LINEAR, ParameterError
+from .params import COUPLED, LEVELS, LINEAR, ParameterError
 from .segments import Flight, Outside, Stick, coast
 
 
@@ -130,9 +130,10 @@ class ModalModel(_Displacements):
             ks, cs1 = (w2 * w2 + mu * w1 * w1) / (1.0 + mu), (cs + mu * cp) / (1.0 + mu)
         try:
             self.free = (Modes(K, C), K, C)
+            self.ride = (Modes([[ks]], [[cs1]]), [[ks]], [[cs1]])
         except ModesError as err:
-            raise ParameterError("mu, FR", (mu, p.FR), f"the coupled level needs distinct modes: {err}") from None
-        self.ride = (Modes([[ks]], [[cs1]]), [[ks]], [[cs1]])
+            raise ParameterError("mu, FR, zeta_s, zeta_p", (mu, p.FR, p.zeta_s, p.zeta_p),
+                                 f"the {LEVELS[p.fidelity]} level needs distinct modes: {err}") from None
         self.K, self.C, self.ks, self.cs1, self.cp = K, C, ks, cs1, cp
         self.fastest = max(self.free[0].fastest, self.ride[0].fastest, p.Omega_acting)
 

@@ -7,11 +7,13 @@ is z' = A z + ..., A = [[0, I], [-K, -C]], whose eigenvalues lam_k (complex, Re 
 eigenvectors V[:, k] = (phi_k, lam_k phi_k) are found once per (K, C) by `Modes`.  Each
 modal coordinate eta_k obeys eta' = lam eta + beta + gamma sin(Omega tau + psi), solved by
 
-    eta(tau) = exp(lam tau) (eta0 + beta/lam) - beta/lam + g+ E(i Omega) + g- E(-i Omega),
+    eta(tau) = exp(lam tau) eta0 + (beta/lam) expm1(lam tau) + g+ E(i Omega) + g- E(-i Omega),
     E(s) = (exp(s tau) - exp(lam tau)) / (s - lam) = tau exp(lam tau) phi1((s - lam) tau),
 
 with g+- = +-gamma exp(+-i psi) / 2i and phi1(w) = (exp(w) - 1)/w summed as a series for small
-|w|: exact at and next to resonance.  Complex-conjugate modes are folded (one of each pair,
+|w|: exact at and next to resonance.  The held load's part beta/lam expm1(lam tau) is evaluated
+without forming exp(lam tau) - 1, so a load that dwarfs the restoring force (a small g, a large
+force: beta/lam >> eta) does not cancel.  Complex-conjugate modes are folded (one of each pair,
 weight 2), so a two-DOF underdamped system costs two complex modes per evaluation.
 Plain Python (math, cmath): this runs inside the FMU.
 """
@@ -80,6 +82,20 @@ def _solve(a, b):
     return x
 
 
+def exp_pair(z):
+    """(exp(z), exp(z) - 1) for complex z, both to full relative precision (cmath has no expm1):
+    near 0 the difference is summed from expm1 and the half-angle sine, elsewhere it does not cancel."""
+    a, b = z.real, z.imag
+    if a * a + b * b > 0.25:
+        e = cmath.exp(z)
+        return e, e - 1.0
+    ea = math.expm1(a)
+    h = math.sin(0.5 * b)
+    omc = 2.0 * h * h  # 1 - cos(b)
+    em = complex(ea - ea * omc - omc, (1.0 + ea) * 2.0 * h * math.cos(0.5 * b))
+    return em + 1.0, em
+
+
 class ModesError(ValueError):
     """The system has coinciding modes (not diagonalisable): closed form by modes fails."""
 
@@ -90,6 +106,12 @@ class Modes:
     def __init__(self, K, C):
         n = len(K)
         self.n = n
+        # solved in the time unit 1/s of the stiffest term, so that the state matrix's rows (q and
+        # q') have like scales whatever the units (a small g made V ill-scaled: 2e-4 of x lost at
+        # g = 1e-15 m/s2); lam, V and W are scaled back at the end
+        s = math.sqrt(max(abs(k) for row in K for k in row))
+        K = [[k / (s * s) for k in row] for row in K]
+        C = [[c / s for c in row] for row in C]
         uncoupled = n == 2 and K[0][1] == K[1][0] == C[0][1] == C[1][0] == 0.0
         if uncoupled:  # two independent oscillators: modes may share a frequency (FR = 1)
             lams = [-0.5 * C[i][i] + sign * cmath.sqrt(0.25 * C[i][i] ** 2 - K[i][i]) for i in (0, 1) for sign in (1, -1)]
@@ -118,11 +140,12 @@ class Modes:
         inv_cols = [_solve(V, [1.0 if r == j else 0.0 for r in range(2 * n)]) for j in range(2 * n)]
         # fold conjugate pairs: keep Im > 0 with weight 2, real modes with weight 1
         keep = [k for k, lam in enumerate(lams) if lam.imag > 1e-12 * scale or abs(lam.imag) <= 1e-12 * scale]
-        self.lam = [lams[k] for k in keep]
+        self.lam = [s * lams[k] for k in keep]
         self.weight = [2.0 if lams[k].imag > 1e-12 * scale else 1.0 for k in keep]
-        self.V = [[V[i][k] for k in keep] for i in range(2 * n)]  # rows: components of z
-        self.W = [[inv_cols[j][k] for j in range(2 * n)] for k in keep]  # rows: modal projections
-        self.fastest = scale
+        # rows: components of z (the velocities' rows back in 1/s); W: modal projections of z
+        self.V = [[V[i][k] * (s if i >= n else 1.0) for k in keep] for i in range(2 * n)]
+        self.W = [[inv_cols[j][k] / (s if j >= n else 1.0) for j in range(2 * n)] for k in keep]
+        self.fastest = s * scale
 
     @staticmethod
     def _shape(K, C, lam):
@@ -140,19 +163,20 @@ class Modes:
 class Motion:
     """One segment of q'' + C q' + K q = b + f sin(Omega tau + psi) from z0 = (q0, q0')."""
 
-    __slots__ = ("modes", "coef", "const", "gp", "gm", "om", "forced", "psi")
+    __slots__ = ("modes", "eta0", "coef", "const", "gp", "gm", "om", "forced", "psi")
 
     def __init__(self, modes, z0, b, f=None, om=0.0, psi=0.0):
         self.modes = modes
         n = modes.n
         self.om, self.psi = om, psi
         self.forced = f is not None and any(fi != 0.0 for fi in f)
-        self.coef, self.const, self.gp, self.gm = [], [], [], []
+        self.eta0, self.coef, self.const, self.gp, self.gm = [], [], [], [], []
         eip = cmath.exp(1j * psi)
         for lam, w in zip(modes.lam, modes.W):
             eta0 = sum(w[i] * z0[i] for i in range(2 * n))
             beta = sum(w[n + i] * b[i] for i in range(n))
             c = beta / lam
+            self.eta0.append(eta0)
             self.coef.append(eta0 + c)
             self.const.append(-c)
             if self.forced:
@@ -167,8 +191,8 @@ class Motion:
             sp = 1j * self.om
             ep, em = cmath.exp(sp * tau), cmath.exp(-sp * tau)
         for k, lam in enumerate(self.modes.lam):
-            el = cmath.exp(lam * tau)
-            eta = el * self.coef[k] + self.const[k]
+            el, el_m1 = exp_pair(lam * tau)
+            eta = el * self.eta0[k] - self.const[k] * el_m1
             if self.forced:
                 eta += self.gp[k] * _spread(sp, lam, tau, ep, el) + self.gm[k] * _spread(-sp, lam, tau, em, el)
             out.append(eta)

@@ -12,7 +12,7 @@ ground, whatever the level.
 import math
 
 from .modal import Motion
-from .segments import TOLERANCE
+from .segments import TOLERANCE, noise_size
 
 _ORDERS = 6  # derivative bounds up to the 5th: the stick guard needs x^(5) for its 4th
 
@@ -31,8 +31,15 @@ class ModalFlight:
         self.growth = max(modes.fastest, om if a != 0.0 else 0.0)
         B = motion.bounds(T, _ORDERS)
         rest = motion.rest()
-        zmax = abs(rest[0] - rest[1]) + B[0][0] + B[1][0]
-        n0 = TOLERANCE * (D + abs(rest[0]) + abs(rest[1]) + B[0][0] + B[1][0])
+        x, y, v, u = z0
+        # |x - y| and |x| + |y| over [0, T]: the tighter of the swing about the equilibrium and
+        # the start's Taylor bound (a held load that dwarfs the restoring force puts the
+        # equilibrium far beyond the motion)
+        zmax = min(abs(rest[0] - rest[1]) + B[0][0] + B[1][0],
+                   abs(x - y) + T * min(B[0][1] + B[1][1], abs(v - u) + T * (B[0][2] + B[1][2])))
+        size = noise_size(abs(rest[0]) + abs(rest[1]) + B[0][0] + B[1][0],
+                          abs(x) + abs(y) + T * min(B[0][1] + B[1][1], abs(v) + abs(u) + T * (B[0][2] + B[1][2])), D)
+        n0 = TOLERANCE * (D + size)
         self.clear = zmax < D - n0 * (1.0 + self.growth * T)
         self.bounds = tuple(B[0][j] + B[1][j] for j in (2, 3, 4))
         self.noise = (n0,) + tuple(TOLERANCE * (B[0][j] + B[1][j] + B[2][j - 1] + B[3][j - 1]) for j in (1, 2, 3))
@@ -79,10 +86,17 @@ class ModalStick:
         rest = motion.rest()[0]
         kx, kv, aa = abs(self.kx), abs(self.kv), abs(a)
         self.bounds = tuple(kx * B[0][j] + kv * B[0][j + 1] + aa * om ** j for j in (2, 3, 4))
-        scale = abs(self.k0) + kx * (abs(rest) + B[0][0]) + kv * B[0][1] + aa
+        # |x|, |v| over [0, T]: the tighter of the swing about the equilibrium and the start's
+        # Taylor bound (see ModalFlight)
+        vmax = min(B[0][1], abs(v) + T * B[0][2])
+        xmax = noise_size(abs(rest) + B[0][0], abs(x) + T * vmax, d)
+        swing = abs(rest) + B[0][0]
+        scale = abs(self.k0) + kx * xmax + kv * (B[0][1] if xmax == swing else vmax) + aa
         self.noise = (TOLERANCE * scale,) + tuple(TOLERANCE * (kx * B[0][j] + kv * B[0][j + 1] + aa * om ** j)
                                                   for j in (1, 2, 3))
-        floor = sgn * (self.k0 + self.kx * rest) - kx * B[0][0] - kv * B[0][1] - aa
+        start = sgn * (self.kx * x + self.kv * v + self.k0 + a * math.sin(psi))
+        floor = max(sgn * (self.k0 + self.kx * rest) - kx * B[0][0] - kv * B[0][1] - aa,
+                    start - T * (kx * vmax + kv * B[0][2] + aa * om))  # least s N/m over [0, T]
         self.clear = floor > self.noise[0] * (1.0 + self.growth * T)
 
     def positions(self, tau):

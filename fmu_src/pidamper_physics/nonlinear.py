@@ -174,6 +174,8 @@ class NonlinearStick(_Step):
 class NonlinearModel:
     """Level model (see levels.py for the protocol) of the double pendulum at any angle."""
 
+    piece_weight = 5  # an integrator step costs about five closed-form pieces (Damper.max_pieces)
+
     def __init__(self, p):
         self.p = p
         self.mu, self.L1, self.L2, self.g = p.mu, p.L1, p.L2, p.g

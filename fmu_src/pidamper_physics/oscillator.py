@@ -4,14 +4,18 @@
     x(0) = x0,  x'(0) = v0.
 
 Units: x in metres (or radians: the formula does not care), w and Omega in
-rad/s, c and a in m/s2.  The solution is written as
+rad/s, c and a in m/s2.  The solution is written about the start, not about the
+equilibrium xe = c / w**2:
 
-    x = xe + A cos(w tau) + B sin(w tau) + a * (sin(psi) Dc(tau) + cos(psi) Ds(tau))
+    x = x0 + B sin(w tau) - A (1 - cos(w tau)) + a * (sin(psi) Dc(tau) + cos(psi) Ds(tau))
 
-with xe = c / w**2 and Dc, Ds the zero-initial-condition responses to
-cos(Omega tau) and sin(Omega tau).  Dc and Ds are evaluated through half-sum
-and half-difference angles, so they are exact for every Omega >= 0: at exact
-resonance (secular growth) and next to it (no 0/0 cancellation).
+with A = x0 - xe, B = v0 / w, 1 - cos = 2 sin^2(w tau / 2), and Dc, Ds the
+zero-initial-condition responses to cos(Omega tau) and sin(Omega tau).  Written so,
+a held load that dwarfs the restoring force (xe >> the motion: a small g, a large
+force) does not cancel: x - x0 is computed to full relative precision for every w > 0.
+Dc and Ds are evaluated through half-sum and half-difference angles, so they are
+exact for every Omega >= 0: at exact resonance (secular growth) and next to it (no
+0/0 cancellation).
 """
 import math
 
@@ -19,15 +23,17 @@ import math
 class Oscillator:
     """One segment of x'' + w^2 x = c + a sin(Omega tau + psi); see the module doc."""
 
-    __slots__ = ("w", "ww", "xe", "A", "B", "a", "om", "sp", "cp", "hs", "hd", "R")
+    __slots__ = ("w", "ww", "xe", "A", "B", "R", "x0", "v0", "wa", "a", "om", "sp", "cp", "hs", "hd")
 
     def __init__(self, w, x0, v0, c=0.0, a=0.0, om=0.0, psi=0.0):
         ww = w * w
         self.w = w
         self.ww = ww
         self.xe = c / ww
+        self.x0, self.v0 = x0, v0
         self.A = x0 - self.xe
         self.B = v0 / w
+        self.wa = w * self.A
         self.R = math.hypot(self.A, self.B)
         self.a = a
         self.om = om
@@ -40,11 +46,21 @@ class Oscillator:
     def state(self, tau):
         """(x, dx, sin, cos) at tau; sin and cos are those of Omega tau + psi (0 unforced)."""
         if self.a == 0.0:
-            w = self.w
-            s = math.sin(w * tau)
-            co = math.cos(w * tau)
-            return (self.xe + self.A * co + self.B * s, w * (self.B * co - self.A * s), 0.0, 0.0)
+            h = 0.5 * self.w * tau
+            sh = math.sin(h)
+            s = 2.0 * sh * math.cos(h)  # sin(w tau)
+            omc = 2.0 * sh * sh  # 1 - cos(w tau)
+            v0 = self.v0
+            return self.x0 + self.B * s - self.A * omc, v0 - v0 * omc - self.wa * s, 0.0, 0.0
         return self._forced(tau)
+
+    def reach(self, T):
+        """(lo, hi): x stays within [lo, hi] over 0 <= tau <= T: the tighter of the swing about
+        the equilibrium and the start's Taylor bound (|x''| <= w^2 R), plus the harmonic response."""
+        xh, _ = self.harmonic_bounds(T)
+        R, xe, x0 = self.R, self.xe, self.x0
+        spread = abs(self.v0) * T + 0.5 * self.ww * R * T * T
+        return max(xe - R, x0 - spread) - xh, min(xe + R, x0 + spread) + xh
 
     def derivs(self, tau):
         """(x, dx, d2x, d3x, sin, cos) at tau, sin and cos as in state()."""
@@ -72,8 +88,11 @@ class Oscillator:
         sp = self.sp
         cp = self.cp
         om = self.om
-        x = self.xe + self.A * co + self.B * s + a * (sp * dc + cp * ds)
-        v = w * (self.B * co - self.A * s) + a * (sp * (s / w - om * ds) + cp * om * dc)
+        hw = math.sin(0.5 * w * tau)
+        omc = 2.0 * hw * hw  # 1 - cos(w tau), without cancellation
+        v0 = self.v0
+        x = self.x0 + self.B * s - self.A * omc + a * (sp * dc + cp * ds)
+        v = v0 - v0 * omc - self.wa * s + a * (sp * (s / w - om * ds) + cp * om * dc)
         return x, v, sp * coo + cp * so, cp * coo - sp * so
 
     def harmonic_bounds(self, T):
@@ -96,10 +115,11 @@ class Oscillator:
         a = abs(self.a)
         R = self.R
         if a == 0.0:
-            return (R, w * R, ww * R, ww * w * R, ww * ww * R, ww * ww * w * R, ww * ww * ww * R)
+            return (R, min(w * R, abs(self.v0) + ww * R * T), ww * R, ww * w * R, ww * ww * R, ww * ww * w * R,
+                    ww * ww * ww * R)
         om = self.om
         xh, vh = self.harmonic_bounds(T)
-        p = [R + xh, w * R + vh]
+        p = [R + xh, min(w * R, abs(self.v0) + ww * R * T) + vh]
         for k in range(5):
             p.append(ww * p[k] + a * om ** k)
         return tuple(p)

@@ -27,6 +27,16 @@ DEFAULTS = {"g": 9.81, "M": 1.0, "mu": 0.1, "L2": 1.0, "FR": 5.0, "d": 0.1, "d_a
 INITIAL_DEFAULTS = {"theta_0": 0.0, "theta_dot_0": 0.5, "alpha_0": 0.0, "alpha_dot_0": 0.0}
 
 
+#: smallest and largest magnitude of a length [m], mass [kg], frequency [rad/s] or load per mass
+#: [m/s2] the model accepts: their squares and pairwise products stay normal floats
+SCALE_RANGE = (1e-150, 1e150)
+
+
+#: least 1 - zeta^2 of a dashpot: the eigenvalues -zeta w +- i w sqrt(1 - zeta^2) of its mode stay
+#: 2e-6 w apart, so the modal closed form keeps about 10 of its 16 digits
+ZETA_GAP = 1e-12
+
+
 class ParameterError(ValueError):
     """A parameter or input outside its allowed range; names the value and the rule."""
 
@@ -78,9 +88,8 @@ class Params:
         self.fidelity, self.zeta_s, self.zeta_p = int(fidelity), float(zeta_s), float(zeta_p)
         self.m = self.mu * self.M
         self.L1 = self.L2 / (self.FR * self.FR)
-        self._check_scale("L1 = L2/FR^2", self.L1)
         self.w2 = math.sqrt(self.g / self.L2)
-        self.w1 = math.sqrt(self.g / self.L1)
+        self.w1 = math.sqrt(self.g / self.L1) if self.L1 > 0.0 else math.inf  # FR^2 overflowed: refused below
         # the built-in harmonic's frequency where it acts (0 without it: a frequency that acts on
         # nothing sets no step size and no rounding allowance)
         self.Omega_acting = self.Omega if self.F0 else 0.0
@@ -91,19 +100,22 @@ class Params:
             self.cx, self.cy, self.D = 1.0 / self.L2, 1.0 / self.L1, self.d_angle
 
     def _check_scales(self):
-        """Refuse parameter sets whose derived quantities the float arithmetic cannot hold (they
-        overflow to inf or underflow to 0): the motion could not be computed, and a step would
-        make no progress."""
-        for what, value in (("w1 = sqrt(g/L1)", self.w1), ("w2 = sqrt(g/L2)", self.w2),
-                            ("w1^2 mu + w2^2", self.w1 * self.w1 * self.mu + self.w2 * self.w2),
-                            ("m = mu M", self.m if self.mu > 0.0 else 1.0)):
-            self._check_scale(what, value)
-
-    def _check_scale(self, what, value):
-        if not (math.isfinite(value) and value > 0.0):
-            raise ParameterError("g, M, mu, L2, FR", (self.g, self.M, self.mu, self.L2, self.FR),
-                                 f"together they make {what} = {value!r}, which float arithmetic cannot hold "
-                                 "(choose scales whose products stay within about 1e-300 to 1e300)")
+        """Refuse parameter sets whose scales the float arithmetic cannot honour: every length,
+        mass, frequency and load per mass must lie within SCALE_RANGE (lengths and loads may also
+        be 0 where allowed), so that their squares and pairwise products stay normal floats and the
+        motion's energy, accelerations and trig arguments are computed to full precision."""
+        lo, hi = SCALE_RANGE
+        derived = "g, M, mu, L2, FR"
+        for names, what, value in (("g", "g", self.g), ("M", "M", self.M), ("L2", "L2", self.L2),
+                                   (derived, "L1 = L2/FR^2", self.L1), (derived, "w2 = sqrt(g/L2)", self.w2),
+                                   (derived, "w1 = sqrt(g/L1)", self.w1), ("mu", "m = mu M", self.m or lo),
+                                   ("d", "d", self.d), ("d_angle", "d_angle", self.d_angle),
+                                   ("F0", "|F0|/M", abs(self.F0) / self.M or lo), ("Omega", "Omega", self.Omega or lo)):
+            if not lo <= value <= hi:
+                values = tuple(getattr(self, n) for n in names.split(", "))
+                raise ParameterError(names, values if len(values) > 1 else values[0],
+                                     f"{what} = {value!r} lies outside {lo:g} to {hi:g}: beyond, float arithmetic "
+                                     "cannot hold its squares and products (choose units that bring it inside)")
 
     def as_dict(self):
         return {name: getattr(self, name) for name in self.NAMES}
@@ -121,8 +133,10 @@ def _check_level(fidelity, contact_form, zeta_s, zeta_p):
         raise ParameterError("fidelity", fidelity, "it must be one of " +
                              ", ".join(f"{i} ({name})" for i, name in enumerate(LEVELS)))
     for name, zeta in (("zeta_s", zeta_s), ("zeta_p", zeta_p)):
-        if not 0.0 <= check_finite(name, zeta) < 1.0:
-            raise ParameterError(name, zeta, "it must lie in [0, 1) (underdamped)")
+        if not 0.0 <= check_finite(name, zeta) < 1.0 or 1.0 - zeta * zeta < ZETA_GAP:
+            raise ParameterError(name, zeta, f"it must lie in [0, 1) with 1 - {name}^2 >= {ZETA_GAP:g} (underdamped: "
+                                 "closer to critical damping the two eigenvalues of the mode merge and the modal "
+                                 "closed form loses its digits)")
         if zeta > 0.0 and fidelity == LINEAR:
             raise ParameterError(name, zeta, "the linear level has no viscous damping: set fidelity >= 1 (damped) "
                                  "or the ratio to 0")

@@ -23,6 +23,17 @@ _ULPS = 64.0  # rounding allowance of a computed guard, in units of eps * its sc
 
 
 TOLERANCE = _ULPS * _EPS  # relative rounding level of a guard at tau = 0
+#: a gap's rounding level must stay below the clearance / GAP_RESOLUTION for contacts to be resolved
+#: (d = 1e-9 m under swings of 0.7 m is resolved: its rounding level is 1e-14 m)
+GAP_RESOLUTION = 1e3
+
+
+def noise_size(swing, reach, D):
+    """Magnitude [m] that sets a gap's rounding level: the all-time swing about the equilibrium
+    (independent of the piece's length, so event decisions do not depend on the step size),
+    unless that is too large to resolve the clearance D (a held load that dwarfs the restoring
+    force): then the motion's reach over the piece, which the start-relative closed form honours."""
+    return swing if TOLERANCE * (D + swing) * GAP_RESOLUTION <= D else min(swing, reach)
 # Trig arguments w tau lose eps * w tau absolute, so a segment's rounding levels grow as
 # noise * (1 + growth * tau): events.locate scales them to the tau it classifies at.
 
@@ -32,17 +43,21 @@ def coast(p, x, v, y, u, fx, fy, T):
     reach over [0, T], else None.  Flight's `clear` test and its positions, in the same operations,
     without building the segment: the event loop's fast path for the steps that cannot meet a stop."""
     w2, w1 = p.w2, p.w1
-    xe = fx / (w2 * w2)
-    a2, b2 = x - xe, v / w2
-    ye = fy / (w1 * w1)
-    a1, b1 = y - ye, u / w1
+    ww2, ww1 = w2 * w2, w1 * w1
+    a2, b2 = x - fx / ww2, v / w2
+    a1, b1 = y - fy / ww1, u / w1
     D = p.D
-    zmax = p.cx * (abs(xe) + math.hypot(a2, b2)) + p.cy * (abs(ye) + math.hypot(a1, b1))
-    if not zmax < D - TOLERANCE * (D + zmax) * (1.0 + max(w1, w2, p.Omega_acting) * T):
+    r2, r1 = math.hypot(a2, b2), math.hypot(a1, b1)
+    zmax = (p.cx * min(abs(x - a2) + r2, abs(x) + abs(v) * T + 0.5 * ww2 * r2 * T * T) +
+            p.cy * min(abs(y - a1) + r1, abs(y) + abs(u) * T + 0.5 * ww1 * r1 * T * T))
+    n0 = TOLERANCE * (D + noise_size(p.cx * (abs(x - a2) + r2) + p.cy * (abs(y - a1) + r1), zmax, D))
+    if not zmax < D - n0 * (1.0 + max(w1, w2, p.Omega_acting) * T):
         return None
-    s2, c2 = math.sin(w2 * T), math.cos(w2 * T)
-    s1, c1 = math.sin(w1 * T), math.cos(w1 * T)
-    return xe + a2 * c2 + b2 * s2, w2 * (b2 * c2 - a2 * s2), ye + a1 * c1 + b1 * s1, w1 * (b1 * c1 - a1 * s1)
+    h2, h1 = 0.5 * w2 * T, 0.5 * w1 * T
+    sh2, sh1 = math.sin(h2), math.sin(h1)
+    s2, s1 = 2.0 * sh2 * math.cos(h2), 2.0 * sh1 * math.cos(h1)  # sin(w T)
+    o2, o1 = 2.0 * sh2 * sh2, 2.0 * sh1 * sh1  # 1 - cos(w T)
+    return x + b2 * s2 - a2 * o2, v - v * o2 - w2 * a2 * s2, y + b1 * s1 - a1 * o1, u - u * o1 - w1 * a1 * s1
 
 
 class Flight:
@@ -54,7 +69,7 @@ class Flight:
 
     reach = math.inf  # the closed form holds over the whole span
     __slots__ = ("px", "py", "cx", "cy", "D", "bounds", "noise", "growth", "clear", "sgn", "inline", "start",
-                 "w2", "xe", "a2", "b2", "w1", "ye", "a1", "b1")
+                 "w2", "x0", "v0", "a2", "b2", "w1", "y0", "u0", "a1", "b1")
 
     def __init__(self, p, x, v, y, u, fx, fy, psi, T, always_bound=False):
         a = p.F0 / p.M
@@ -65,13 +80,15 @@ class Flight:
         self.sgn = 0
         self.start = None  # gap derivatives at tau = 0, once computed
         self.inline = a == 0.0
-        self.w2, self.xe, self.a2, self.b2 = px.w, px.xe, px.A, px.B
-        self.w1, self.ye, self.a1, self.b1 = py.w, py.xe, py.A, py.B
-        xh, vh = px.harmonic_bounds(T)
-        zmax = cx * (abs(px.xe) + px.R + xh) + cy * (abs(py.xe) + py.R)
+        self.w2, self.x0, self.v0, self.a2, self.b2 = px.w, x, v, px.A, px.B
+        self.w1, self.y0, self.u0, self.a1, self.b1 = py.w, y, u, py.A, py.B
+        xh, _ = px.harmonic_bounds(T)
+        (x_lo, x_hi), (y_lo, y_hi) = px.reach(T), py.reach(T)
+        zmax = cx * max(-x_lo, x_hi) + cy * max(-y_lo, y_hi)
+        swing = cx * (abs(px.xe) + px.R + xh) + cy * (abs(py.xe) + py.R)
         tol = TOLERANCE
         self.growth = max(p.w1, p.w2, p.Omega_acting)
-        n0 = tol * (D + zmax)
+        n0 = tol * (D + noise_size(swing, zmax, D))
         self.clear = zmax < D - n0 * (1.0 + self.growth * T)
         if self.clear and not always_bound:  # no stop within reach: bounds and noise are not needed
             self.bounds = self.noise = None
@@ -86,15 +103,21 @@ class Flight:
     def positions(self, tau):
         """(x, v, y, u) at tau."""
         if self.inline:
-            w2, w1 = self.w2, self.w1
-            s2, c2 = math.sin(w2 * tau), math.cos(w2 * tau)
-            s1, c1 = math.sin(w1 * tau), math.cos(w1 * tau)
-            a2, b2, a1, b1 = self.a2, self.b2, self.a1, self.b1
-            return (self.xe + a2 * c2 + b2 * s2, w2 * (b2 * c2 - a2 * s2),
-                    self.ye + a1 * c1 + b1 * s1, w1 * (b1 * c1 - a1 * s1))
+            return self._inline(tau)
         x, v, _, _ = self.px.state(tau)
         y, u, _, _ = self.py.state(tau)
         return x, v, y, u
+
+    def _inline(self, tau):
+        """Oscillator.state of both bodies without the harmonic, inline: (x, v, y, u) at tau."""
+        w2, w1 = self.w2, self.w1
+        h2, h1 = 0.5 * w2 * tau, 0.5 * w1 * tau
+        sh2, sh1 = math.sin(h2), math.sin(h1)
+        s2, s1 = 2.0 * sh2 * math.cos(h2), 2.0 * sh1 * math.cos(h1)  # sin(w tau)
+        o2, o1 = 2.0 * sh2 * sh2, 2.0 * sh1 * sh1  # 1 - cos(w tau)
+        v, u, a2, a1 = self.v0, self.u0, self.a2, self.a1
+        return (self.x0 + self.b2 * s2 - a2 * o2, v - v * o2 - w2 * a2 * s2,
+                self.y0 + self.b1 * s1 - a1 * o1, u - u * o1 - w1 * a1 * s1)
 
     def gap(self, tau):
         """Gap function cx x - cy y and its rate at tau."""
@@ -112,12 +135,8 @@ class Flight:
         """(guard, rate) of stop +1 (D - z) then of stop -1 (D + z), flat; z = cx x - cy y."""
         cx, cy, D = self.cx, self.cy, self.D
         if self.inline:
-            w2, w1 = self.w2, self.w1
-            s2, c2 = math.sin(w2 * tau), math.cos(w2 * tau)
-            s1, c1 = math.sin(w1 * tau), math.cos(w1 * tau)
-            a2, b2, a1, b1 = self.a2, self.b2, self.a1, self.b1
-            z = cx * (self.xe + a2 * c2 + b2 * s2) - cy * (self.ye + a1 * c1 + b1 * s1)
-            dz = cx * w2 * (b2 * c2 - a2 * s2) - cy * w1 * (b1 * c1 - a1 * s1)
+            x, v, y, u = self._inline(tau)
+            z, dz = cx * x - cy * y, cx * v - cy * u
         else:
             x, v, _, _ = self.px.state(tau)
             y, u, _, _ = self.py.state(tau)
@@ -172,17 +191,23 @@ class Stick:
         self.osc = osc = Oscillator(big_w, x, v, c, a, p.Omega, psi)
         self.sgn, self.d, self.a, self.om = sgn, d, a, p.Omega
         self.k = k = ww1 - osc.ww
-        self.base = ww1 * (osc.xe - sgn * d) - fy  # N/m = x'' + w1^2 (x - sgn d) - fy
+        # N/m = x'' + w1^2 (x - sgn d) - fy = k x + base + a sin(...), base = c - w1^2 sgn d - fy
+        # (written with c, not with the equilibrium c / W^2, so a held load that dwarfs the
+        # restoring force does not cancel)
+        self.base = c - ww1 * sgn * d - fy
         P = osc.bounds(T)
         aa, om = abs(a), p.Omega
         self.bounds = tuple(abs(k) * P[j] + aa * om ** j for j in (2, 3, 4))
         tol = TOLERANCE
         self.growth = max(big_w, p.Omega_acting)
-        self.noise = (tol * (abs(k) * (abs(osc.xe) + P[0]) + ww1 * (abs(osc.xe) + d) + aa + abs(fy)),
+        lo, hi = osc.reach(T)
+        size = noise_size(abs(osc.xe) + P[0], max(-lo, hi), d)
+        self.noise = (tol * (abs(k) * size + abs(c) + ww1 * d + aa + abs(fy)),
                       tol * (abs(k) * P[1] + aa * om),
-                      tol * (abs(k) * (P[2] + osc.ww * abs(osc.xe)) + aa * om * om),
+                      tol * (abs(k) * (P[2] + abs(c)) + aa * om * om),
                       tol * (abs(k) * P[3] + aa * om ** 3))
-        self.clear = sgn * self.base - abs(k) * P[0] - aa > self.noise[0] * (1.0 + self.growth * T)
+        floor = sgn * self.base + min(sgn * k * lo, sgn * k * hi) - aa  # least s N/m over [0, T]
+        self.clear = floor > self.noise[0] * (1.0 + self.growth * T)
 
     def positions(self, tau):
         x, v, _, _ = self.osc.state(tau)
@@ -191,11 +216,11 @@ class Stick:
     def values(self, tau):
         x, v, sf, cf = self.osc.state(tau)
         s = self.sgn
-        return (s * (self.k * (x - self.osc.xe) + self.base + self.a * sf),
+        return (s * (self.k * x + self.base + self.a * sf),
                 s * (self.k * v + self.a * self.om * cf))
 
     def derivs(self, tau, i=0):
         x, v, x2, x3, sf, cf = self.osc.derivs(tau)
         s, k, a, om = self.sgn, self.k, self.a, self.om
-        return (s * (k * (x - self.osc.xe) + self.base + a * sf), s * (k * v + a * om * cf),
+        return (s * (k * x + self.base + a * sf), s * (k * v + a * om * cf),
                 s * (k * x2 - a * om * om * sf), s * (k * x3 - a * om ** 3 * cf))

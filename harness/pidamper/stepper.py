@@ -141,6 +141,7 @@ class CoreStepper:
         if values:
             raise KeyError(f"unknown parameters {sorted(values)!r}")
         self.core = Damper(Params(**params), *initial, t0=start_time)
+        self.core.bound_work()  # as the FMU: a step's work is capped
         self.forcing = forcing
 
     @property
