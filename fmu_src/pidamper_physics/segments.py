@@ -48,11 +48,13 @@ def coast(p, x, v, y, u, fx, fy, T):
     a1, b1 = y - fy / ww1, u / w1
     D = p.D
     r2, r1 = math.hypot(a2, b2), math.hypot(a1, b1)
-    zmax = (p.cx * min(abs(x - a2) + r2, abs(x) + abs(v) * T + 0.5 * ww2 * r2 * T * T) +
-            p.cy * min(abs(y - a1) + r1, abs(y) + abs(u) * T + 0.5 * ww1 * r1 * T * T))
-    n0 = TOLERANCE * (D + noise_size(p.cx * (abs(x - a2) + r2) + p.cy * (abs(y - a1) + r1), zmax, D))
-    if not zmax < D - n0 * (1.0 + max(w1, w2, p.Omega_acting) * T):
-        return None
+    swing = p.cx * (abs(x - a2) + r2) + p.cy * (abs(y - a1) + r1)
+    growth = 1.0 + max(w1, w2, p.Omega_acting) * T
+    if not swing < D - TOLERANCE * (D + swing) * growth:  # the all-time swing may reach a stop: try the piece's reach
+        zmax = (p.cx * min(abs(x - a2) + r2, abs(x) + abs(v) * T + 0.5 * ww2 * r2 * T * T) +
+                p.cy * min(abs(y - a1) + r1, abs(y) + abs(u) * T + 0.5 * ww1 * r1 * T * T))
+        if not zmax < D - TOLERANCE * (D + noise_size(swing, zmax, D)) * growth:
+            return None
     h2, h1 = 0.5 * w2 * T, 0.5 * w1 * T
     sh2, sh1 = math.sin(h2), math.sin(h1)
     s2, s1 = 2.0 * sh2 * math.cos(h2), 2.0 * sh1 * math.cos(h1)  # sin(w T)
