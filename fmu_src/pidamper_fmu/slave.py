@@ -3,10 +3,12 @@
 Variables (names are a contract): inputs F [N] and a_g [m/s2] (ground acceleration of a
 base excitation: it acts on both bodies, whose x and y are then measured from the ground); parameters
 g, M, mu, L2, FR, d, d_angle, e (tunable), contact_form, F0, Omega, phi, fidelity, zeta_s, zeta_p,
-angle_limit and the initial state theta_0, theta_dot_0, alpha_0, alpha_dot_0; outputs theta,
-theta_dot, alpha, alpha_dot, x, y, z, a, contact_force, energy, energy_dissipated, energy_viscous,
-work_in, impacts, contact, impacts_in_step, impacts_unrecorded; local variables impact[k].* (the
-impacts of the last step).
+angle_limit and the initial state theta_0, theta_dot_0, alpha_0, alpha_dot_0, and a building's
+storeys, damper_floor, floor[k].m, storey[k].k (k = 1..10); outputs theta, theta_dot, alpha,
+alpha_dot, a, contact_force, energy, energy_dissipated, impacts, contact, floor[k].x, floor[k].a,
+storey[k].drift, base_shear; local variables x, y, z, energy_viscous, work_in, impacts_in_step,
+impacts_unrecorded and impact[k].* (the impacts of the last step).  With storeys >= 1 the F input
+acts on the damper floor and the building starts at rest (theta_0 and theta_dot_0 play no part).
 
 The FMU's native layer (fmi2_entry.c, binaries/linux64/<id>.so) sits in front of pythonfmu's binary:
 it enforces the calling sequence and answers reads from a buffer this class fills after each step
@@ -28,12 +30,15 @@ from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
 from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, Damper, ParameterError, Params, SmallAngleMonitor
-from pidamper_physics.params import NONLINEAR, check_finite, check_restitution
+from pidamper_physics.params import (FLOOR_MASS, MAX_STOREYS, NONLINEAR, STOREY_STIFFNESS, check_finite,
+                                     check_restitution)
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
 
-_START = {**DEFAULTS, **INITIAL_DEFAULTS, "angle_limit": SmallAngleMonitor.DEFAULT_LIMIT}
+_START = {**DEFAULTS, **INITIAL_DEFAULTS, "angle_limit": SmallAngleMonitor.DEFAULT_LIMIT,
+          **{f"floor[{k}].m": FLOOR_MASS for k in range(1, MAX_STOREYS + 1)},
+          **{f"storey[{k}].k": STOREY_STIFFNESS for k in range(1, MAX_STOREYS + 1)}}
 
 # name, type, start, unit, min, max, description
 PARAMETERS = tuple((name, kind, _START[name], unit, lo, hi, desc) for name, kind, unit, lo, hi, desc in (
@@ -60,26 +65,43 @@ PARAMETERS = tuple((name, kind, _START[name], unit, lo, hi, desc) for name, kind
                                     "2 zeta_p m w1 (fidelity >= 1; < 1)"),
     ("angle_limit", Real, "rad", 0.0, None, "swing beyond which the linear (small-angle) model warns, once per run "
                                             "(0.4 rad: its frequency is then 1 % off; 0 = never)"),
-))
+    ("storeys", Integer, None, 0, MAX_STOREYS, "0 = the pendulum primary; 1..10 = a linear shear building of that many "
+                                               "storeys instead (floor[k].m, storey[k].k; M, L2 play no part)"),
+    ("damper_floor", Integer, None, 0, MAX_STOREYS, "floor the particle hangs from (0 = the top floor; else 1..storeys)"),
+) + tuple((f"floor[{k}].m", Real, "kg", 0.0, None, f"mass of floor {k} (storeys >= {k})")
+          for k in range(1, MAX_STOREYS + 1)) + tuple(
+    (f"storey[{k}].k", Real, "N/m", 0.0, None, f"stiffness of storey {k}, joining floor {k - 1} to floor {k} "
+                                               f"(storeys >= {k})") for k in range(1, MAX_STOREYS + 1)))
 
 # name, type, unit, description, direct feedthrough from F.  The outputs are the component's
 # interface (what a host records by default and connects); the derived and bookkeeping values are
 # local variables a host reads by name.  Both are computed together after each step and have
 # consecutive value references in this order, so one pack fills them all.
 OUTPUTS = (
-    ("theta", Real, "rad", "primary angle", False),
-    ("theta_dot", Real, "rad/s", "primary angular velocity", False),
-    ("alpha", Real, "rad", "particle angle (of its wire from the vertical)", False),
+    ("theta", Real, "rad", "primary angle (storeys >= 1: the damper floor's x / L2, L2 = g / w_1^2 the pendulum of "
+                           "the building's first frequency w_1)", False),
+    ("theta_dot", Real, "rad/s", "primary angular velocity (storeys >= 1: the damper floor's velocity / L2)", False),
+    ("alpha", Real, "rad", "particle angle (of its wire from the vertical; storeys >= 1: (y - x) / L1, its pivot "
+                           "on the damper floor)", False),
     ("alpha_dot", Real, "rad/s", "particle angular velocity", False),
-    ("a", Real, "m/s2", "primary acceleration between impacts", True),
+    ("a", Real, "m/s2", "primary acceleration between impacts, relative to the ground (storeys >= 1: the damper "
+                        "floor's)", True),
     ("contact_force", Real, "N", "force of the stop on the particle while riding it, else 0", True),
-    ("energy", Real, "J", "mechanical energy of the level's model (linear: 0.5 M (v^2 + w2^2 x^2) + 0.5 m (u^2 + w1^2 y^2))", False),
+    ("energy", Real, "J", "mechanical energy of the level's model (linear: 0.5 M (v^2 + w2^2 x^2) + 0.5 m (u^2 + w1^2 y^2); "
+                          "storeys >= 1: the floors' kinetic and strain energy + 0.5 m (u^2 + w1^2 (y - x)^2))", False),
     ("energy_dissipated", Real, "J", "energy dissipated by impacts so far", False),
     ("impacts", Integer, None, "impacts applied so far (chatter impacts included)", False),
     ("contact", Integer, None, "0 free, +1/-1 particle riding that stop", False),
-)
+) + tuple((f"floor[{k}].x", Real, "m", f"displacement of floor {k} relative to the ground (0 beyond storeys)", False)
+          for k in range(1, MAX_STOREYS + 1)) + tuple(
+    (f"floor[{k}].a", Real, "m/s2", f"absolute acceleration of floor {k} (0 beyond storeys)", True)
+    for k in range(1, MAX_STOREYS + 1)) + tuple(
+    (f"storey[{k}].drift", Real, "m", f"drift of storey {k}: floor[{k}].x - floor[{k - 1}].x (0 beyond storeys)", False)
+    for k in range(1, MAX_STOREYS + 1)) + (
+    ("base_shear", Real, "N", "force of the building on the ground (sum of K x + C x'; 0 without a building)", False),)
 DERIVED = (
-    ("x", Real, "m", "primary displacement (linear levels: L2*theta; nonlinear: L2 sin(theta))", False),
+    ("x", Real, "m", "primary displacement (linear levels: L2*theta; nonlinear: L2 sin(theta); storeys >= 1: the "
+                     "damper floor's, relative to the ground)", False),
     ("y", Real, "m", "particle displacement (linear, damped: L1*alpha; coupled: x + L1*alpha; nonlinear: "
                      "x + L1 sin(alpha))", False),
     ("z", Real, "m", "gap x - y", False),
@@ -90,6 +112,8 @@ DERIVED = (
      "impacts of the last step beyond the 16 record slots (counted, not recorded)", False),
 )
 COMPUTED = OUTPUTS + DERIVED
+_NO_BUILDING = (0.0,) * (3 * MAX_STOREYS + 1)  # the building's outputs without a building
+_PAD = [(0.0,) * (MAX_STOREYS - n) for n in range(MAX_STOREYS + 1)]
 
 # Per-step impact record: local variables (hosts do not record them by default; any host reads them
 # by name after fmi2DoStep).  Slots beyond impacts_in_step hold zeros.  The Real fields of all slots
@@ -110,7 +134,7 @@ NR = len(IMPACT_REALS)
 
 _UNITS = {"s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "m": {"m": 1}, "m/s2": {"m": 1, "s": -2}, "kg": {"kg": 1}, "1": {},
           "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "N": {"kg": 1, "m": 1, "s": -2},
-          "J": {"kg": 1, "m": 2, "s": -2}}
+          "J": {"kg": 1, "m": 2, "s": -2}, "N/m": {"kg": 1, "s": -2}}
 
 _TIME_TOLERANCE = 1e-9  # relative mismatch of a step's start time accepted from a host
 
@@ -185,7 +209,7 @@ class PendulumImpactDamper(Fmi2Slave):
             self.register_variable(kind(
                 name, causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.tunable if tunable else Fmi2Variability.fixed,
-                setter=self._setter(name, tunable)))
+                getter=(lambda name=name: getattr(self, name)), setter=self._setter(name, tunable)), nested=False)
         for k, (name, kind, *_) in enumerate(COMPUTED):
             causality = Fmi2Causality.output if k < len(OUTPUTS) else Fmi2Causality.local
             self._register_computed(name, kind, causality, self._output_getter(k))
@@ -249,8 +273,15 @@ class PendulumImpactDamper(Fmi2Slave):
             c = self._core_now()
         theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force = c.observables(self.F, self.a_g)
         n = self._in_step
-        return (theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact,
-                x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
+        return (theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact) + \
+            (self._building_outputs(c) if c.p.storeys else _NO_BUILDING) + \
+            (x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
+
+    def _building_outputs(self, c):
+        """floor[k].x, floor[k].a, storey[k].drift (zeros beyond storeys) and base_shear."""
+        xs, accs, drifts, shear = c.building_outputs(self.F, self.a_g)
+        pad = _PAD[len(xs)]
+        return tuple(xs) + pad + tuple(accs) + pad + tuple(drifts) + pad + (shear,)
 
     # ---- per-step impact record -------------------------------------------------------
 
@@ -290,7 +321,7 @@ class PendulumImpactDamper(Fmi2Slave):
         return set_value
 
     def _build_core(self):
-        params = Params(**{name: getattr(self, name) for name in Params.NAMES})
+        params = Params.from_variables({name: getattr(self, name) for name, *_ in PARAMETERS})
         core = Damper(params, self.theta_0, self.theta_dot_0, self.alpha_0, self.alpha_dot_0, self._t0)
         core.on_impact = self._record
         core.bound_work()  # fmi2DoStep cannot be interrupted: a step's work is capped

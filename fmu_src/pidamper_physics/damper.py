@@ -76,16 +76,21 @@ def check_state(state):
 class Damper:
     """Event-driven pendulum impact damper; see the module doc for the rules."""
 
-    def __init__(self, params=None, theta0=0.0, theta_dot0=0.0, alpha0=0.0, alpha_dot0=0.0, t0=0.0):
+    def __init__(self, params=None, theta0=0.0, theta_dot0=0.0, alpha0=0.0, alpha_dot0=0.0, t0=0.0, floors0=None):
+        """A building (storeys >= 1) starts at rest, or at floors0 = (displacements, velocities) of
+        its floors [m, m/s]; theta0 and theta_dot0 then play no part (alpha0 is the particle's wire angle)."""
         p = params if params is not None else Params()
         self.p = p
         self.model = model_for(p)
+        self._carry = getattr(self.model, "others", None) is not None  # the level keeps more floors
         for name, val in (("theta_0", theta0), ("theta_dot_0", theta_dot0), ("alpha_0", alpha0),
                           ("alpha_dot_0", alpha_dot0), ("start time", t0)):
             check_finite(name, val)
         self.t = float(t0)
         self.t_lo = 0.0  # the state's time is t + t_lo exactly: t_lo keeps what rounding t dropped
         self.x, self.v, self.y, self.u = self.model.from_angles(theta0, theta_dot0, alpha0, alpha_dot0)
+        if floors0 is not None:
+            self._start_floors(*floors0)
         x, _, y, _ = self.displacements()
         gap = p.cx * x - p.cy * y
         slack = 64 * 2.220446049250313e-16 * (p.D + abs(p.cx * x) + abs(p.cy * y))
@@ -200,6 +205,31 @@ class Damper:
             rows.append((self.x, self.v, self.y, self.u))
         return rows
 
+    def floors(self):
+        """(displacements, velocities) of a building's floors [m, m/s] relative to the ground, floor 1
+        first (storeys >= 1 only)."""
+        if not self._carry:
+            raise ParameterError("storeys", self.p.storeys, "floors() needs a building: storeys >= 1")
+        return self.model.floors(self.x, self.v)
+
+    def building_outputs(self, force=0.0, ground=0.0):
+        """(floor displacements [m], floor absolute accelerations [m/s2], storey drifts [m], base
+        shear [N]) under held force `force` [N] on the damper floor and ground acceleration `ground`."""
+        side = self.side if self.mode == STICK else 0
+        return self.model.building_outputs(self.x, self.v, self.y, self.u, side, self._applied(force), ground)
+
+    def _start_floors(self, xs, vs):
+        n = self.p.storeys
+        if not self._carry or len(xs) != n or len(vs) != n:
+            raise ParameterError("floors0", (xs, vs), f"it needs a building and {n} displacements and velocities")
+        for k, value in enumerate(list(xs) + list(vs)):
+            check_finite(f"floors0[{k}]", value)
+        r, w = self.y - self.x, self.u - self.v
+        j = self.p.floor
+        self.x, self.v = float(xs[j]), float(vs[j])
+        self.y, self.u = self.x + r, self.v + w
+        self.model.set_floors([float(x) for x in xs], [float(v) for v in vs])
+
     def bound_work(self):
         """Cap each advance() at MAX_PIECES / the level's piece_weight pieces, refusing a call that
         needs more (for hosts that cannot interrupt a call, such as fmi2DoStep)."""
@@ -252,12 +282,21 @@ class Damper:
         """Plain dict (JSON-safe) of everything that determines the future motion."""
         state = {k: getattr(self, k) for k in STATE_KEYS}
         state["step_hint"] = getattr(self.model, "hint", 0.0)  # the integrator's next step (nonlinear)
+        if self._carry:
+            state["others"] = list(self.model.others)  # a building's other floors
         return state
 
     def set_state(self, state):
         """Restore a dict get_state() wrote; anything else is refused (ParameterError naming the
         key, its value and the rule) before the state changes."""
         check_state(state)
+        if self._carry:
+            others = state.get("others")
+            if not isinstance(others, list) or len(others) != len(self.model.others):
+                raise ParameterError("state others", others, f"{len(self.model.others)} numbers: the other floors")
+            for k, value in enumerate(others):
+                check_finite(f"state others[{k}]", value)
+            self.model.others = [float(v) for v in others]
         self._may_coast = True
         for k in STATE_KEYS:
             setattr(self, k, state.get(k, 0.0) if k == "t_lo" else state[k])
@@ -320,6 +359,8 @@ class Damper:
         book = self.model.work
         before = (self.x, self.v, self.y, self.u) if book is not None else None
         self.x, self.v, self.y, self.u = after = seg.positions(tau)
+        if self._carry:
+            self.model.others = seg.others(tau)
         if tau > 0.0:
             self.fresh = False
         e_new = self._energy()

@@ -16,6 +16,7 @@ fy = -a_g on the particle, plus the built-in harmonic a = F0/M on the primary.
 import functools
 import math
 
+from .building_level import BuildingModel
 from .impact import collide, impact_loss
 from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work
@@ -197,6 +198,8 @@ def _primary_velocity(seg, tau):
 
 def model_for(p):
     """The level model of Params p (the nonlinear one lives in nonlinear.py)."""
+    if p.storeys:
+        return BuildingModel(p)
     if p.fidelity == LINEAR:
         return LinearModel(p)
     if p.fidelity > COUPLED:

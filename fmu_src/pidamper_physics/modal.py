@@ -1,4 +1,4 @@
-"""Closed-form motion of a damped linear system with one or two degrees of freedom, by modes.
+"""Closed-form motion of a damped linear system with n degrees of freedom, by modes.
 
     q'' + C q' + K q = b + f sin(Omega tau + psi),    tau = t - t0 >= 0
 
@@ -14,11 +14,14 @@ with g+- = +-gamma exp(+-i psi) / 2i and phi1(w) = (exp(w) - 1)/w summed as a se
 |w|: exact at and next to resonance.  The held load's part beta/lam expm1(lam tau) is evaluated
 without forming exp(lam tau) - 1, so a load that dwarfs the restoring force (a small g, a large
 force: beta/lam >> eta) does not cancel.  Complex-conjugate modes are folded (one of each pair,
-weight 2), so a two-DOF underdamped system costs two complex modes per evaluation.
+weight 2), so a two-DOF underdamped system costs two complex modes per evaluation.  n = 1, 2
+are solved in closed form (2-DOF: a quartic), n >= 3 by the general eigen-solver (eigen.py).
 Plain Python (math, cmath): this runs inside the FMU.
 """
 import cmath
 import math
+
+from . import eigen
 
 _SERIES = 0.25  # |w| below which phi1 is summed as a series (14 terms: below 1e-17)
 
@@ -101,7 +104,11 @@ class ModesError(ValueError):
 
 
 class Modes:
-    """Eigen-decomposition of q'' + C q' + K q (n = 1 or 2 DOF, K and C as nested lists)."""
+    """Eigen-decomposition of q'' + C q' + K q (n DOF, K and C as nested lists, not necessarily
+    symmetric).  lam: the kept eigenvalues (Im > 0 of each conjugate pair, weight 2; real ones,
+    weight 1), V: 2n rows of z = (q, q') by kept mode, W: kept rows of V^-1 (modal projections of
+    z), fastest: the largest |lam|.  Raises ModesError if two modes coincide (or, n >= 3, if the
+    eigen-solver fails)."""
 
     def __init__(self, K, C):
         n = len(K)
@@ -113,7 +120,12 @@ class Modes:
         K = [[k / (s * s) for k in row] for row in K]
         C = [[c / s for c in row] for row in C]
         uncoupled = n == 2 and K[0][1] == K[1][0] == C[0][1] == C[1][0] == 0.0
-        if uncoupled:  # two independent oscillators: modes may share a frequency (FR = 1)
+        if n >= 3:  # general solver; lams come as exact conjugate pairs and snapped real values
+            try:
+                lams, vecs = eigen.pencil_modes(K, C)
+            except eigen.EigenError as err:
+                raise ModesError(f"eigen-solver: {err}") from None
+        elif uncoupled:  # two independent oscillators: modes may share a frequency (FR = 1)
             lams = [-0.5 * C[i][i] + sign * cmath.sqrt(0.25 * C[i][i] ** 2 - K[i][i]) for i in (0, 1) for sign in (1, -1)]
         elif n == 1:
             k, c = K[0][0], C[0][0]
@@ -133,18 +145,26 @@ class Modes:
             for j in range(i):
                 if abs(lams[i] - lams[j]) <= 1e-7 * scale:
                     raise ModesError(f"two modes coincide (eigenvalue {lams[i]:.6g})")
-        vecs = [[1.0 + 0j, 0j]] * 2 + [[0j, 1.0 + 0j]] * 2 if uncoupled else [self._shape(K, C, lam) for lam in lams]
-        # columns (phi, lam phi); V^-1 columns from solving V x = e_j
+        if uncoupled:
+            vecs = [[1.0 + 0j, 0j]] * 2 + [[0j, 1.0 + 0j]] * 2
+        elif n <= 2:
+            vecs = [self._shape(K, C, lam) for lam in lams]
+        # columns (phi, lam phi)
         V = [[vecs[k][i] for k in range(2 * n)] for i in range(n)] + \
             [[lams[k] * vecs[k][i] for k in range(2 * n)] for i in range(n)]
-        inv_cols = [_solve(V, [1.0 if r == j else 0.0 for r in range(2 * n)]) for j in range(2 * n)]
         # fold conjugate pairs: keep Im > 0 with weight 2, real modes with weight 1
         keep = [k for k, lam in enumerate(lams) if lam.imag > 1e-12 * scale or abs(lam.imag) <= 1e-12 * scale]
+        # the kept rows of V^-1: n <= 2 from its columns (solving V x = e_j), else from one LU
+        if n <= 2:
+            inv_cols = [_solve(V, [1.0 if r == j else 0.0 for r in range(2 * n)]) for j in range(2 * n)]
+            inv_rows = {k: [inv_cols[j][k] for j in range(2 * n)] for k in keep}
+        else:
+            inv_rows = dict(zip(keep, eigen.inverse_rows(V, keep)))
         self.lam = [s * lams[k] for k in keep]
         self.weight = [2.0 if lams[k].imag > 1e-12 * scale else 1.0 for k in keep]
         # rows: components of z (the velocities' rows back in 1/s); W: modal projections of z
         self.V = [[V[i][k] * (s if i >= n else 1.0) for k in keep] for i in range(2 * n)]
-        self.W = [[inv_cols[j][k] / (s if j >= n else 1.0) for j in range(2 * n)] for k in keep]
+        self.W = [[inv_rows[k][j] / (s if j >= n else 1.0) for j in range(2 * n)] for k in keep]
         self.fastest = s * scale
 
     @staticmethod
@@ -198,12 +218,12 @@ class Motion:
             out.append(eta)
         return out
 
-    def state(self, tau):
-        """z(tau) = (q, q') as a list of floats."""
+    def state(self, tau, rows=None):
+        """z(tau) = (q, q') as a list of floats (only the components `rows`, if given, in their order)."""
         eta = self.modal(tau)
         m = self.modes
         out = []
-        for row in m.V:
+        for row in (m.V if rows is None else [m.V[i] for i in rows]):
             s = 0.0
             for k, e in enumerate(eta):
                 s += m.weight[k] * (row[k] * e).real
@@ -217,9 +237,10 @@ class Motion:
         a = self.om * tau + self.psi
         return math.sin(a), math.cos(a)
 
-    def bounds(self, T, orders=5):
+    def bounds(self, T, orders=5, rows=None, vectors=None):
         """Per component of z: bounds of |z_c - rest_c| and of |d^j z_c / dtau^j|, j = 1..orders-1,
-        over 0 <= tau <= T (Re lam <= 0 makes |exp(lam tau)| <= 1)."""
+        over 0 <= tau <= T (Re lam <= 0 makes |exp(lam tau)| <= 1).  Only the components `rows`
+        (indices), if given; or of the linear functions c . z whose modal rows (c V) are `vectors`."""
         m = self.modes
         om = self.om
         per_mode = []
@@ -236,13 +257,18 @@ class Motion:
                         row[j] += min(p, steady)
                         p = a * p + ga * om ** j
             per_mode.append(row)
+        if vectors is None:
+            vectors = m.V if rows is None else [m.V[i] for i in rows]
         return [[sum(m.weight[k] * abs(vrow[k]) * per_mode[k][j] for k in range(len(m.lam))) for j in range(orders)]
-                for vrow in m.V]
+                for vrow in vectors]
 
-    def rest(self):
-        """Per component of z: the constant part (the equilibrium under the held load b)."""
+    def rest(self, rows=None, vectors=None):
+        """Per component of z: the constant part (the equilibrium under the held load b); only
+        the components `rows`, or the functions whose modal rows are `vectors`, if given."""
         m = self.modes
-        return [sum(m.weight[k] * (vrow[k] * self.const[k]).real for k in range(len(m.lam))) for vrow in m.V]
+        if vectors is None:
+            vectors = m.V if rows is None else [m.V[i] for i in rows]
+        return [sum(m.weight[k] * (vrow[k] * self.const[k]).real for k in range(len(m.lam))) for vrow in vectors]
 
 
 def _spread(s, lam, tau, es, el):

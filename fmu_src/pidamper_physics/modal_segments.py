@@ -18,31 +18,40 @@ _ORDERS = 6  # derivative bounds up to the 5th: the stick guard needs x^(5) for 
 
 
 class ModalFlight:
-    """Both bodies free; z = (x, y, v, u) follows the 2-DOF system of the level."""
+    """Both bodies free; z = (x, y, v, u) follows the 2-DOF system of the level.  A building's
+    segment (building_level.py) passes its (N+1)-DOF system and gap = (floor index, particle index)."""
 
     reach = math.inf  # the closed form holds over the whole span
-    __slots__ = ("motion", "K", "C", "b", "f", "om", "D", "bounds", "noise", "growth", "clear")
+    __slots__ = ("motion", "K", "C", "b", "f", "om", "D", "bounds", "noise", "growth", "clear", "gap")
 
-    def __init__(self, system, z0, b, a, om, psi, T, D, always_bound=False):
+    def __init__(self, system, z0, b, a, om, psi, T, D, always_bound=False, gap=(0, 1)):
         modes, K, C = system
-        f = (a, 0.0) if a != 0.0 else None
+        n = modes.n
+        ix, iy = gap
+        if a == 0.0:
+            f = None
+        else:
+            f = [0.0] * n
+            f[ix] = a
         self.motion = motion = Motion(modes, z0, b, f, om, psi)
-        self.K, self.C, self.b, self.f, self.om, self.D = K, C, b, a, om, D
+        self.K, self.C, self.b, self.f, self.om, self.D, self.gap = K, C, b, a, om, D, gap
         self.growth = max(modes.fastest, om if a != 0.0 else 0.0)
-        B = motion.bounds(T, _ORDERS)
-        rest = motion.rest()
-        x, y, v, u = z0
+        rows = (ix, iy, n + ix, n + iy)  # x, y, v, u: the components the gap needs
+        B = motion.bounds(T, _ORDERS, rows)
+        rx, ry, _, _ = motion.rest(rows)
+        x, y, v, u = (z0[i] for i in rows)
+        Bx, By, Bv, Bu = B
         # |x - y| and |x| + |y| over [0, T]: the tighter of the swing about the equilibrium and
         # the start's Taylor bound (a held load that dwarfs the restoring force puts the
         # equilibrium far beyond the motion)
-        zmax = min(abs(rest[0] - rest[1]) + B[0][0] + B[1][0],
-                   abs(x - y) + T * min(B[0][1] + B[1][1], abs(v - u) + T * (B[0][2] + B[1][2])))
-        size = noise_size(abs(rest[0]) + abs(rest[1]) + B[0][0] + B[1][0],
-                          abs(x) + abs(y) + T * min(B[0][1] + B[1][1], abs(v) + abs(u) + T * (B[0][2] + B[1][2])), D)
+        zmax = min(abs(rx - ry) + Bx[0] + By[0],
+                   abs(x - y) + T * min(Bx[1] + By[1], abs(v - u) + T * (Bx[2] + By[2])))
+        size = noise_size(abs(rx) + abs(ry) + Bx[0] + By[0],
+                          abs(x) + abs(y) + T * min(Bx[1] + By[1], abs(v) + abs(u) + T * (Bx[2] + By[2])), D)
         n0 = TOLERANCE * (D + size)
         self.clear = zmax < D - n0 * (1.0 + self.growth * T)
-        self.bounds = tuple(B[0][j] + B[1][j] for j in (2, 3, 4))
-        self.noise = (n0,) + tuple(TOLERANCE * (B[0][j] + B[1][j] + B[2][j - 1] + B[3][j - 1]) for j in (1, 2, 3))
+        self.bounds = tuple(Bx[j] + By[j] for j in (2, 3, 4))
+        self.noise = (n0,) + tuple(TOLERANCE * (Bx[j] + By[j] + Bv[j - 1] + Bu[j - 1]) for j in (1, 2, 3))
 
     def positions(self, tau):
         x, y, v, u = self.motion.state(tau)

@@ -9,8 +9,17 @@ force F0 sin(Omega t + phi) on the primary; fidelity 0..3 (LEVELS) picks the mod
 and zeta_p [1] are the viscous damping ratios of the primary (dashpot 2 zeta_s M w2 on its
 velocity) and of the particle (2 zeta_p m w1 on its velocity relative to its pivot), used
 from the damped level on.
+
+Buildings (storeys >= 1): the pendulum primary is replaced by a linear shear building of that
+many storeys (building.py) with floor masses floor_m [kg] and storey stiffnesses storey_k [N/m]
+(sequences, floor / storey 1 first; entries beyond `storeys` are ignored), every mode damped at
+zeta_s from the damped level on; the particle (m = mu * the building's mass, w1 = FR * the
+building's first natural frequency w_1, L1 = g / w1^2) hangs from floor damper_floor (0 = the
+top floor), whose mass is then M; M, L2 and the pendulum primary's w2 play no part.
 """
 import math
+
+from .building import ShearBuilding
 
 DISPLACEMENT = 0
 ANGLE = 1
@@ -22,7 +31,12 @@ LEVELS = ("linear", "damped", "coupled", "nonlinear")
 #: default parameters (the FMU's start values): the paper's free-vibration case
 DEFAULTS = {"g": 9.81, "M": 1.0, "mu": 0.1, "L2": 1.0, "FR": 5.0, "d": 0.1, "d_angle": 0.1, "e": 0.2,
             "contact_form": DISPLACEMENT, "F0": 0.0, "Omega": math.sqrt(9.81 / 1.0), "phi": 0.0, "fidelity": LINEAR,
-            "zeta_s": 0.0, "zeta_p": 0.0}
+            "zeta_s": 0.0, "zeta_p": 0.0, "storeys": 0, "damper_floor": 0}
+#: most storeys of a building (storeys >= 1); default floor masses [kg] and storey stiffnesses
+#: [N/m]: a uniform building whose first period is about 0.1 s per storey (0.32 s at 3, 0.94 s at 10)
+MAX_STOREYS = 10
+FLOOR_MASS = 1.0e5
+STOREY_STIFFNESS = 2.0e8
 #: default initial state [rad, rad/s]: particle at rest, primary started by a velocity
 INITIAL_DEFAULTS = {"theta_0": 0.0, "theta_dot_0": 0.5, "alpha_0": 0.0, "alpha_dot_0": 0.0}
 
@@ -62,13 +76,13 @@ class Params:
     """Validated physical parameters plus the derived quantities the solver uses."""
 
     NAMES = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi", "fidelity",
-             "zeta_s", "zeta_p")
+             "zeta_s", "zeta_p", "storeys", "damper_floor", "floor_m", "storey_k")
 
     def __init__(self, g=DEFAULTS["g"], M=DEFAULTS["M"], mu=DEFAULTS["mu"], L2=DEFAULTS["L2"],
                  FR=DEFAULTS["FR"], d=DEFAULTS["d"], d_angle=DEFAULTS["d_angle"], e=DEFAULTS["e"],
                  contact_form=DEFAULTS["contact_form"], F0=DEFAULTS["F0"], Omega=DEFAULTS["Omega"],
                  phi=DEFAULTS["phi"], fidelity=DEFAULTS["fidelity"], zeta_s=DEFAULTS["zeta_s"],
-                 zeta_p=DEFAULTS["zeta_p"]):
+                 zeta_p=DEFAULTS["zeta_p"], storeys=0, damper_floor=0, floor_m=None, storey_k=None):
         for name in ("g", "M", "L2", "FR", "d", "d_angle"):
             _positive(name, locals()[name])
         if check_finite("mu", mu) < 0.0:
@@ -86,10 +100,16 @@ class Params:
         self.contact_form = int(contact_form)
         self.F0, self.Omega, self.phi = float(F0), float(Omega), float(phi)
         self.fidelity, self.zeta_s, self.zeta_p = int(fidelity), float(zeta_s), float(zeta_p)
-        self.m = self.mu * self.M
-        self.L1 = self.L2 / (self.FR * self.FR)
-        self.w2 = math.sqrt(self.g / self.L2)
-        self.w1 = math.sqrt(self.g / self.L1) if self.L1 > 0.0 else math.inf  # FR^2 overflowed: refused below
+        self.storeys, self.damper_floor, self.building = _check_building(storeys, damper_floor, fidelity, contact_form)
+        self.floor_m = _per_storey("floor_m", floor_m, FLOOR_MASS)
+        self.storey_k = _per_storey("storey_k", storey_k, STOREY_STIFFNESS)
+        if self.storeys:
+            self._set_building()
+        else:
+            self.m = self.mu * self.M
+            self.L1 = self.L2 / (self.FR * self.FR)
+            self.w2 = math.sqrt(self.g / self.L2)
+            self.w1 = math.sqrt(self.g / self.L1) if self.L1 > 0.0 else math.inf  # FR^2 overflowed: refused below
         # the built-in harmonic's frequency where it acts (0 without it: a frequency that acts on
         # nothing sets no step size and no rounding allowance)
         self.Omega_acting = self.Omega if self.F0 else 0.0
@@ -117,8 +137,65 @@ class Params:
                                      f"{what} = {value!r} lies outside {lo:g} to {hi:g}: beyond, float arithmetic "
                                      "cannot hold its squares and products (choose units that bring it inside)")
 
+    def _set_building(self):
+        """Derived quantities of a building (storeys >= 1): the ShearBuilding, the particle's m, w1,
+        L1, and M = the damper floor's mass (the force F acts on that floor)."""
+        n = self.storeys
+        lo, hi = SCALE_RANGE
+        for name, values in (("floor[{}].m", self.floor_m), ("storey[{}].k", self.storey_k)):
+            for k, value in enumerate(values[:n], start=1):
+                if not lo <= check_finite(name.format(k), value) <= hi:
+                    raise ParameterError(name.format(k), value, f"it must lie in {lo:g} to {hi:g} (> 0)")
+        self.building = ShearBuilding(self.floor_m[:n], self.storey_k[:n], self.zeta_s)
+        self.floor = (self.damper_floor or n) - 1  # index of the damper floor
+        self.M = self.building.masses[self.floor]
+        self.m = self.mu * self.building.total_mass
+        self.w2 = self.building.w_1
+        self.w1 = self.FR * self.w2
+        self.L1 = self.g / (self.w1 * self.w1) if self.w1 > 0.0 else math.inf
+        self.L2 = self.g / (self.w2 * self.w2)
+
     def as_dict(self):
         return {name: getattr(self, name) for name in self.NAMES}
+
+    @classmethod
+    def from_variables(cls, values):
+        """Params from FMU variable names: the NAMES plus floor[k].m and storey[k].k (k = 1..10);
+        other names are ignored."""
+        kwargs = {k: v for k, v in values.items() if k in cls.NAMES}
+        for key, pattern in (("floor_m", "floor[{}].m"), ("storey_k", "storey[{}].k")):
+            listed = [values.get(pattern.format(k)) for k in range(1, MAX_STOREYS + 1)]
+            if any(v is not None for v in listed):
+                default = FLOOR_MASS if key == "floor_m" else STOREY_STIFFNESS
+                kwargs[key] = [default if v is None else v for v in listed]
+        return cls(**kwargs)
+
+
+def _per_storey(name, values, default):
+    """The MAX_STOREYS values of a per-storey parameter (missing ones take the default)."""
+    values = list(values) if values is not None else []
+    if len(values) > MAX_STOREYS:
+        raise ParameterError(name, values, f"at most {MAX_STOREYS} values (one per storey)")
+    return [float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v for v in values] + \
+        [default] * (MAX_STOREYS - len(values))
+
+
+def _check_building(storeys, damper_floor, fidelity, contact_form):
+    """(storeys, damper_floor, None) once the building's integers are checked (its masses and
+    stiffnesses are checked by ShearBuilding)."""
+    if type(storeys) is not int or not 0 <= storeys <= MAX_STOREYS:
+        raise ParameterError("storeys", storeys, f"it must be an integer in 0..{MAX_STOREYS} (0 = the pendulum primary)")
+    if type(damper_floor) is not int or not 0 <= damper_floor <= max(storeys, 0):
+        raise ParameterError("damper_floor", damper_floor, f"it must be an integer in 0..storeys = {storeys} "
+                             "(0 = the top floor)")
+    if storeys:
+        if fidelity == NONLINEAR:
+            raise ParameterError("fidelity", fidelity, "a building (storeys >= 1) is linear: fidelity 0 (no dashpots), "
+                                 "1 or 2 (modal damping zeta_s and the particle dashpot zeta_p); the nonlinear level "
+                                 "(3) is for the pendulum primary only")
+        if contact_form != DISPLACEMENT:
+            raise ParameterError("contact_form", contact_form, "a building (storeys >= 1) needs the displacement form 0")
+    return storeys, damper_floor, None
 
 
 def check_restitution(e):

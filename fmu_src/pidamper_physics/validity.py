@@ -40,8 +40,9 @@ class SmallAngleMonitor:
         self.p = params
         self.limit = limit
         self.warned = False
-        # swing > bar  <=>  x^2 + (v/w2)^2 > (bar L2)^2, and alike for the particle
-        self._k2, self._x2 = 1.0 / params.w2 ** 2, (limit * params.L2) ** 2
+        # swing > bar  <=>  x^2 + (v/w2)^2 > (bar L2)^2, and alike for the particle (a building's
+        # floors are no pendulum: only its particle is watched)
+        self._k2, self._x2 = 1.0 / params.w2 ** 2, (limit * params.L2) ** 2 if not params.storeys else math.inf
         self._k1 = 1.0 / params.w1 ** 2
         self._y2 = (limit * params.L1) ** 2 if params.mu > 0.0 else math.inf
 
@@ -76,7 +77,8 @@ class SmallAngleMonitor:
     def largest(self):
         """(primary, particle) largest swings [rad] seen since the limit was first exceeded
         (a body that never exceeded it reports the limit; a particle without mass 0)."""
-        return math.sqrt(self._x2) / self.p.L2, (math.sqrt(self._y2) / self.p.L1 if self.p.mu > 0.0 else 0.0)
+        primary = math.sqrt(self._x2) / self.p.L2 if self._x2 < math.inf else 0.0  # a building: not watched
+        return primary, (math.sqrt(self._y2) / self.p.L1 if self.p.mu > 0.0 else 0.0)
 
     def summary(self):
         """The closing text of a run that left the small-angle range, else None."""

@@ -1,4 +1,4 @@
-"""Command line: pidamper run | replay | demo | bench | stress | study | paper.
+"""Command line: pidamper run | replay | demo | bench | stress | study | paper | cosim.
 
     pidamper run [SCENE] [--forcing KIND] [-p NAME=VALUE ...] [--stop-time S | --periods N]
                  [--output-interval H] [--fmu PATH] [--csv-out FILE] [--out DIR] [--serve | --connect URL]
@@ -23,7 +23,7 @@ def _parse_param(text):
     if not sep:
         raise argparse.ArgumentTypeError(f"-p {text!r} is not allowed: use NAME=VALUE")
     try:
-        number = int(value) if name == "contact_form" else float(value)
+        number = int(value) if name.strip() in ("contact_form", "storeys", "damper_floor") else float(value)
     except ValueError:
         raise argparse.ArgumentTypeError(f"-p {text!r} is not allowed: {value!r} is not a number") from None
     return name.strip(), number
@@ -97,7 +97,10 @@ def cmd_run(args):
         print(f"warning from the FMU: {warning}", file=sys.stderr)
     print(f"scene {sc.name}: {sc.description}; FMU {result.fmu}")
     print(f"forcing {signal.kind} {signal.args}; {len(d) - 1} steps of {h:g} s to t = {d['time'][-1]:.6g} s")
-    print(f"impacts {int(d['impacts'][-1])}; max |theta| {abs(d['theta']).max():.6g} rad; "
+    swing = (f"max |x| of the damper floor {abs(d['x']).max():.6g} m, max |base_shear| "
+             f"{abs(d['base_shear']).max():.6g} N" if "base_shear" in d.dtype.names
+             else f"max |theta| {abs(d['theta']).max():.6g} rad")
+    print(f"impacts {int(d['impacts'][-1])}; {swing}; "
           f"energy {d['energy'][-1]:.6g} J; dissipated {d['energy_dissipated'][-1]:.6g} J; "
           f"work in {d['work_in'][-1]:.6g} J; CPU {result.cpu_time:.3f} s")
     if args.csv_out:
@@ -199,6 +202,11 @@ def _bench(rest):
     return bench_main(rest)
 
 
+def _cosim(rest):
+    from .cosim import cli_main
+    return cli_main(rest)
+
+
 def _paper(rest):
     from .paper import main as paper_main
     return paper_main(rest)
@@ -261,9 +269,10 @@ def main(argv=None):
     sub.add_parser("stress", help="hard-case stability table (pidamper stress --help)")
     sub.add_parser("study", help="parametric study over a grid (pidamper study --help)")
     sub.add_parser("paper", help="regenerate the paper's figures for both readings (pidamper paper --help)")
+    sub.add_parser("cosim", help="the damper unit FMU on the ShearBuilding FMU, co-simulated (pidamper cosim --help)")
 
     argv = sys.argv[1:] if argv is None else list(argv)
-    own = {"bench": _bench, "stress": _stress, "study": _study, "paper": _paper}
+    own = {"bench": _bench, "stress": _stress, "study": _study, "paper": _paper, "cosim": _cosim}
     if argv and argv[0] in own:  # their own parsers take the rest
         return own[argv[0]](argv[1:])
     args = parser.parse_args(argv)

@@ -25,12 +25,12 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pidamper_physics.params import LEVELS
+from pidamper_physics.params import LEVELS, MAX_STOREYS
 
 from . import forcing as forcing_mod
 from .mcap_log import TOPICS as MCAP_TOPICS
 from .rerun_log import VIEWS as RERUN_VIEWS
-from .simulation import OUTPUTS, resonance
+from .simulation import OUTPUTS, building_outputs, resonance
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -38,7 +38,11 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 PARAMETERS = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi",
-              "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0", "angle_limit", "zeta_s", "zeta_p")
+              "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0", "angle_limit", "zeta_s", "zeta_p",
+              "storeys", "damper_floor", "floor_m", "storey_k")
+#: a building's per-storey parameters: a number (every storey) or a list (storey 1 first), and the
+#: FMU variables they fill
+PER_STOREY = {"floor_m": "floor[{}].m", "storey_k": "storey[{}].k"}
 FIDELITY = LEVELS  # linear, damped, coupled, nonlinear: FMU parameter fidelity = the index
 SECTIONS = ("description", "name", "parameters", "forcing", "run", "outputs", "log")
 FORCING_ARGS = {
@@ -79,13 +83,20 @@ class Scene:
 
     @property
     def start_values(self):
-        """FMU start values: the parameters and the fidelity level's index."""
+        """FMU start values: the parameters (a building's floor_m and storey_k spread over the
+        floor[k].m and storey[k].k variables) and the fidelity level's index."""
         level = self.run.get("fidelity", "linear")
-        return {**self.parameters, "fidelity": FIDELITY.index(level)}
+        values = {k: v for k, v in self.parameters.items() if k not in PER_STOREY}
+        for key, pattern in PER_STOREY.items():
+            given = self.parameters.get(key)
+            if given is not None:
+                listed = given if isinstance(given, list) else [given] * MAX_STOREYS
+                values.update({pattern.format(k): float(v) for k, v in enumerate(listed, start=1)})
+        return {**values, "fidelity": FIDELITY.index(level)}
 
     @property
     def w2(self):
-        return resonance(self.parameters)
+        return resonance(self.start_values)
 
     @property
     def stop_time(self):
@@ -155,7 +166,16 @@ def parse(data, source="scene", folder=Path("."), name="scene"):
     for key, value in params.items():
         if key not in PARAMETERS:
             raise SceneError(source, f"parameters.{key}", value, f"FMU parameters are {', '.join(PARAMETERS)}")
+        if key in PER_STOREY and isinstance(value, list):
+            if not 1 <= len(value) <= MAX_STOREYS:
+                raise SceneError(source, f"parameters.{key}", value, f"a number or a list of 1 to {MAX_STOREYS} "
+                                 "numbers (storey 1 first)")
+            for k, item in enumerate(value, start=1):
+                _number(source, f"parameters.{key}[{k}]", item)
+            continue
         _number(source, f"parameters.{key}", value)
+        if key in ("storeys", "damper_floor", "contact_form") and not isinstance(value, int):
+            raise SceneError(source, f"parameters.{key}", value, "an integer")
     forcing = _table(data, "forcing", source) or {"kind": "none"}
     kind = forcing.get("kind")
     if kind not in FORCING_ARGS:
@@ -189,13 +209,14 @@ def parse(data, source="scene", folder=Path("."), name="scene"):
     if "stop_time" in run and "periods" in run:
         raise SceneError(source, "run", "stop_time and periods", "give one of them")
     outputs = _table(data, "outputs", source)
-    record = tuple(outputs.get("record", OUTPUTS))
+    record = tuple(outputs.get("record", OUTPUTS + building_outputs(params)))
     for key in outputs:
         if key != "record":
             raise SceneError(source, f"outputs.{key}", outputs[key], "the outputs field is record")
+    available = OUTPUTS + building_outputs(params)
     for name_ in record:
-        if name_ not in OUTPUTS:
-            raise SceneError(source, "outputs.record", name_, f"FMU outputs are {', '.join(OUTPUTS)}")
+        if name_ not in available:
+            raise SceneError(source, "outputs.record", name_, f"FMU outputs are {', '.join(available)}")
     log = _table(data, "log", source)
     for key, value in log.items():
         if key not in LOG_KEYS:

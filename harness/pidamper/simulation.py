@@ -15,6 +15,8 @@ import fmpy
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
+from pidamper_physics import Params
+
 from .fmu import find_fmu
 from .forcing import Forcing, none
 
@@ -75,8 +77,18 @@ def _model_words(message):
 
 
 def resonance(parameters):
-    """Primary natural frequency w2 = sqrt(g / L2) [rad/s] for the given parameters."""
-    return math.sqrt(parameters.get("g", 9.81) / parameters.get("L2", 1.0))
+    """Primary natural frequency [rad/s] for the given FMU parameters: w2 = sqrt(g / L2), or a
+    building's first natural frequency w_1 (storeys >= 1)."""
+    if not parameters.get("storeys"):
+        return math.sqrt(parameters.get("g", 9.81) / parameters.get("L2", 1.0))
+    return Params.from_variables(parameters).w2
+
+
+def building_outputs(parameters):
+    """The building's outputs a run records beside OUTPUTS (none with storeys = 0)."""
+    n = int(parameters.get("storeys", 0))
+    return tuple(f"{kind}[{k}].{field}" for kind, field in (("floor", "x"), ("floor", "a"), ("storey", "drift"))
+                 for k in range(1, n + 1)) + (("base_shear",) if n else ())
 
 
 def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu=None, start_time=0.0,
@@ -88,6 +100,7 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
     _check_interval(start_time, stop_time, output_interval)
     start_values = dict(parameters or {})
     start_values.update(forcing.start_values)
+    extra_outputs = tuple(extra_outputs) + tuple(o for o in building_outputs(start_values) if o not in extra_outputs)
     path = str(find_fmu(fmu))
     n = int(round((stop_time - start_time) / output_interval))
     grid = start_time + output_interval * np.arange(n + 1)

@@ -5,6 +5,7 @@ close) so the measures run unchanged on the FMU (through fmpy's FMU2Slave) or
 on the physics core directly.  The external force, if any, is sampled at the
 start of each advance and held (as a co-simulation host does).
 """
+import re
 import shutil
 from ctypes import byref
 
@@ -137,10 +138,11 @@ class CoreStepper:
     def __init__(self, start_values=None, forcing=None, start_time=0.0):
         values = dict(start_values or {})
         initial = [float(values.pop(k, default)) for k, default in INITIAL_DEFAULTS.items()]
-        params = {k: values.pop(k) for k in list(values) if k in Params.NAMES}
+        known = [k for k in values if k in Params.NAMES or re.fullmatch(r"(floor\[\d+\]\.m|storey\[\d+\]\.k)", k)]
+        params = {k: values.pop(k) for k in known}
         if values:
             raise KeyError(f"unknown parameters {sorted(values)!r}")
-        self.core = Damper(Params(**params), *initial, t0=start_time)
+        self.core = Damper(Params.from_variables(params), *initial, t0=start_time)
         self.core.bound_work()  # as the FMU: a step's work is capped
         self.forcing = forcing
 
@@ -148,7 +150,16 @@ class CoreStepper:
     def t(self):
         return self.core.t
 
+    def _input(self, target):
+        """The input `target` (F or a_g) held over the last step: the forcing's value at its start."""
+        if self.forcing is None or self.forcing.target != target:
+            return 0.0
+        return float(self.forcing.value(self._held_from))
+
+    _held_from = 0.0
+
     def advance(self, t_end):
+        self._held_from = self.core.t
         value = 0.0 if self.forcing is None else float(self.forcing.value(self.core.t))
         if self.forcing is not None and self.forcing.target == "a_g":
             self.core.advance(t_end, 0.0, value)
@@ -160,6 +171,13 @@ class CoreStepper:
 
     def get(self, name):
         c = self.core
+        found = re.fullmatch(r"(floor|storey)\[(\d+)\]\.(x|a|drift)", name)
+        if found or name == "base_shear":
+            ground = self._input("a_g")
+            xs, acc, drifts, shear = c.building_outputs(self._input("F"), ground)
+            if not found:
+                return shear
+            return {"x": xs, "a": acc, "drift": drifts}[found.group(3)][int(found.group(2)) - 1]
         return {"impacts": c.impacts, "energy": c.energy, "energy_dissipated": c.dissipated,
                 "energy_viscous": c.viscous, "work_in": c.work_in, "theta": c.angles()[0]}[name]
 

@@ -12,8 +12,13 @@ FREE = {"theta_dot_0": 2.1924643668712155}
 
 def bad_parameter(fmu, name, value):
     """Run with one invalid parameter: the error text, or None if it was accepted."""
+    return bad_values(fmu, {name: value})
+
+
+def bad_values(fmu, values):
+    """Run with the start values `values`: the error text, or None if they were accepted."""
     try:
-        run({name: value}, stop_time=0.1, output_interval=0.01, fmu=fmu)
+        run(values, stop_time=0.1, output_interval=0.01, fmu=fmu)
     except FmuError as err:
         return str(err)
     return None

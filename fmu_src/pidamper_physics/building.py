@@ -1,0 +1,105 @@
+"""A linear shear building: lumped floor masses, storey stiffnesses, classical modal damping.
+
+Floors k = 1..N carry masses m_k [kg]; storey k (stiffness k_k [N/m]) joins floor k - 1 to
+floor k, floor 0 being the ground.  With x the floor displacements relative to the ground [m]:
+
+    M x'' + C x' + K x = -M 1 a_g + f,     M = diag(m_k),
+    K = tridiagonal: K[k][k] = k_k + k_(k+1), K[k][k+1] = K[k+1][k] = -k_(k+1),
+    C = M Phi diag(2 zeta w_r) Phi^T M     (every mode damped at the ratio zeta),
+
+Phi the undamped mode shapes normalised to Phi^T M Phi = I, w_r the natural frequencies
+(ascending).  Drift of storey k: x_k - x_(k-1); base shear: k_1 x_1 + the first storey's share of
+the damping force, (C x')_ground = -(sum of the rows of C) x' (the dashpots' reaction on the ground).
+Plain Python (math): this ships inside the FMU.
+"""
+import math
+
+
+def jacobi_eigh(a, sweeps=100):
+    """Eigenvalues (ascending) and orthonormal eigenvectors (as columns) of the symmetric matrix
+    a (nested lists), by cyclic Jacobi rotations: accurate to rounding for small n."""
+    n = len(a)
+    a = [list(map(float, row)) for row in a]
+    vec = [[1.0 if i == j else 0.0 for j in range(n)] for i in range(n)]
+    for _ in range(sweeps):
+        off = sum(a[i][j] * a[i][j] for i in range(n) for j in range(i + 1, n))
+        if off <= 1e-36 * sum(a[i][i] * a[i][i] for i in range(n)):
+            break
+        for p in range(n - 1):
+            for q in range(p + 1, n):
+                apq = a[p][q]
+                if apq == 0.0:
+                    continue
+                theta = (a[q][q] - a[p][p]) / (2.0 * apq)
+                t = math.copysign(1.0, theta) / (abs(theta) + math.sqrt(theta * theta + 1.0))
+                c = 1.0 / math.sqrt(t * t + 1.0)
+                s = t * c
+                for k in range(n):  # columns p, q
+                    akp, akq = a[k][p], a[k][q]
+                    a[k][p], a[k][q] = c * akp - s * akq, s * akp + c * akq
+                for k in range(n):  # rows p, q
+                    apk, aqk = a[p][k], a[q][k]
+                    a[p][k], a[q][k] = c * apk - s * aqk, s * apk + c * aqk
+                for k in range(n):
+                    vkp, vkq = vec[k][p], vec[k][q]
+                    vec[k][p], vec[k][q] = c * vkp - s * vkq, s * vkp + c * vkq
+    order = sorted(range(n), key=lambda i: a[i][i])
+    return [a[i][i] for i in order], [[vec[k][i] for i in order] for k in range(n)]
+
+
+class ShearBuilding:
+    """Matrices and modes of an N-storey shear building (see the module doc).
+
+    masses [kg], stiffnesses [N/m]: sequences of N positive numbers (floor / storey 1 first);
+    zeta [1]: the damping ratio of every mode, 0 <= zeta < 1 (Params checks them all)."""
+
+    def __init__(self, masses, stiffnesses, zeta=0.0):
+        n = len(masses)
+        if n < 1 or len(stiffnesses) != n:
+            raise ValueError("a shear building needs a mass and a stiffness per storey")
+        self.n = n
+        self.masses = [float(m) for m in masses]
+        self.stiffnesses = [float(k) for k in stiffnesses]
+        self.zeta = float(zeta)
+        ks = self.stiffnesses + [0.0]
+        self.K = [[0.0] * n for _ in range(n)]
+        for i in range(n):
+            self.K[i][i] = ks[i] + ks[i + 1]
+            if i + 1 < n:
+                self.K[i][i + 1] = self.K[i + 1][i] = -ks[i + 1]
+        # M^-1/2 K M^-1/2 is symmetric: its eigenvectors psi give Phi = M^-1/2 psi
+        root = [math.sqrt(m) for m in self.masses]
+        sym = [[self.K[i][j] / (root[i] * root[j]) for j in range(n)] for i in range(n)]
+        lams, psi = jacobi_eigh(sym)
+        self.omegas = [math.sqrt(max(lam, 0.0)) for lam in lams]
+        self.shapes = [[psi[i][r] / root[i] for r in range(n)] for i in range(n)]  # Phi[i][r]
+        phi = self.shapes
+        # C = M Phi diag(2 zeta w) Phi^T M
+        self.C = [[self.masses[i] * self.masses[j] * sum(phi[i][r] * 2.0 * self.zeta * self.omegas[r] * phi[j][r]
+                                                          for r in range(n)) for j in range(n)] for i in range(n)]
+
+    @property
+    def w_1(self):
+        """First natural frequency [rad/s]."""
+        return self.omegas[0]
+
+    @property
+    def total_mass(self):
+        return sum(self.masses)
+
+    def drifts(self, x):
+        """Storey drifts x_k - x_(k-1) [m] of floor displacements x (relative to the ground)."""
+        return [x[k] - (x[k - 1] if k else 0.0) for k in range(self.n)]
+
+    def base_shear(self, x, v):
+        """Force of the building on the ground [N] (storey 1's spring and the dashpots' ground
+        reaction): the sum of K x + C x' over all floors."""
+        n = self.n
+        return sum(self.K[i][j] * x[j] + self.C[i][j] * v[j] for i in range(n) for j in range(n))
+
+    def energy(self, x, v):
+        """Kinetic plus strain energy [J] of the floors (relative motion)."""
+        n = self.n
+        kin = 0.5 * sum(self.masses[i] * v[i] * v[i] for i in range(n))
+        strain = 0.5 * sum(k * d * d for k, d in zip(self.stiffnesses, self.drifts(x)))
+        return kin + strain

@@ -1,0 +1,330 @@
+"""The damper on a shear building (storeys >= 1): the level model and its two segments.
+
+Coordinates: floor displacements x_1..x_N and the particle's y, relative to the ground [m]; the
+particle hangs from floor j (Params.floor is j - 1), r = y - x_j, stops at r = -+d (gap
+x_j - y = +-d, as at the pendulum levels).  With m_k the floor masses, m the particle's mass,
+w1 its pendulum frequency and c_p = 2 zeta_p m w1:
+
+    M x'' + C x' + K x = -M 1 a_g + e_j (F + F0 sin(Omega t + phi) + m w1^2 r + c_p r'),
+    m (y'' + a_g) = -m w1^2 r - c_p r'
+
+(building.py gives M, K and the classical modal damping C).  While the particle rides stop s the
+wire and dashpot forces are internal: (M + m e_j e_j^T) x'' + C x' + K x = -(M 1 + m e_j) a_g +
+e_j (F + F0 sin), y = x_j - s d, and the stop's force on the particle is
+N = m (x_j'' + a_g + w1^2 r).  An impact exchanges momentum between the particle and floor j
+only (impact.py with mu = m / m_j): no other floor moves at that instant.
+
+The Damper keeps x, v = floor j's displacement and velocity and y, u the particle's; the model
+keeps the other floors' state in `others` (x_k, then v_k, for k != j), which the Damper updates
+from each segment (Damper._move) and saves with its state.  Both the free (N+1)-DOF system and
+the riding N-DOF one are solved in closed form by modes (modal.py).
+"""
+import math
+
+from .impact import collide, impact_loss
+from .modal import Modes, ModesError, Motion
+from .modal_segments import _ORDERS, ModalFlight, harmonic_work
+from .params import ParameterError
+from .segments import TOLERANCE, noise_size
+
+
+def _per_mass(matrix, masses):
+    return [[value / masses[i] for value in row] for i, row in enumerate(matrix)]
+
+
+class BuildingModel:
+    """Level model of a building with the particle hung from floor j (see the module doc)."""
+
+    reach = math.inf
+    piece_weight = 1
+
+    def __init__(self, p):
+        self.p = p
+        b = p.building
+        n, j = b.n, p.floor
+        self.n, self.j = n, j
+        m, ww1, cwp = p.m, p.w1 * p.w1, 2.0 * p.zeta_p * p.w1  # cwp: the particle dashpot per its mass
+        self.mu_j = m / b.masses[j]  # the impact law's mass ratio: particle to floor j
+        # free flight: q = (x_1..x_N, y); the wire and the particle dashpot join floor j and y
+        # (the particle's row per its own mass, so a massless particle, mu = 0, still swings)
+        K = [row + [0.0] for row in b.K]
+        C = [row + [0.0] for row in b.C]
+        for A, c in ((K, m * ww1), (C, m * cwp)):
+            A[j][j] += c
+            A[j][n] -= c
+        self.Kf = _per_mass(K, b.masses) + [[-ww1 if k == j else ww1 if k == n else 0.0 for k in range(n + 1)]]
+        self.Cf = _per_mass(C, b.masses) + [[-cwp if k == j else cwp if k == n else 0.0 for k in range(n + 1)]]
+        # riding: floor j carries the particle
+        ride = list(b.masses)
+        ride[j] += m
+        self.ride_masses = ride
+        self.Kr, self.Cr = _per_mass(b.K, ride), _per_mass(b.C, ride)
+        try:
+            self.free = (Modes(self.Kf, self.Cf), self.Kf, self.Cf)
+            self.ride = (Modes(self.Kr, self.Cr), self.Kr, self.Cr)
+        except ModesError as err:
+            raise ParameterError("storeys, floor[k].m, storey[k].k, mu, FR, zeta_s, zeta_p",
+                                 (p.storeys, b.masses, b.stiffnesses, p.mu, p.FR, p.zeta_s, p.zeta_p),
+                                 f"the building with its particle needs distinct modes: {err}") from None
+        self.fastest = max(self.free[0].fastest, self.ride[0].fastest, p.Omega_acting)
+        self.others = [0.0] * (2 * (n - 1))
+
+    # ---- state ------------------------------------------------------------------------
+
+    def floors(self, x, v):
+        """(displacements, velocities) of all floors [m, m/s], floor 1 first."""
+        o, j, n = self.others, self.j, self.n
+        xs = o[:j] + [x] + o[j:n - 1]
+        vs = o[n - 1:n - 1 + j] + [v] + o[n - 1 + j:]
+        return xs, vs
+
+    def set_floors(self, xs, vs):
+        """Put the other floors' state (the damper floor's is the Damper's x, v)."""
+        j = self.j
+        self.others = list(xs[:j]) + list(xs[j + 1:]) + list(vs[:j]) + list(vs[j + 1:])
+
+    def displacements(self, x, v, y, u):
+        return x, v, y, u
+
+    def particle_swing(self, x, v, y, u):
+        return y - x, u - v
+
+    def angles(self, x, v, y, u):
+        """theta: the damper floor's displacement / L2 (L2 = g / w_1^2, the pendulum of the building's
+        first frequency); alpha: the particle's wire angle r / L1."""
+        p = self.p
+        return x / p.L2, v / p.L2, (y - x) / p.L1, (u - v) / p.L1
+
+    def from_angles(self, theta, theta_dot, alpha, alpha_dot):
+        """The building starts at rest (set_floors for another start); the particle at alpha."""
+        p = self.p
+        return 0.0, 0.0, p.L1 * alpha, p.L1 * alpha_dot
+
+    def energy(self, x, v, y, u):
+        p = self.p
+        xs, vs = self.floors(x, v)
+        r = y - x
+        return p.building.energy(xs, vs) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
+
+    # ---- segments -------------------------------------------------------------------
+
+    def _loads(self, fc):
+        """Held loads per mass of the free system: -a_g on every floor, F/m_j - a_g on floor j."""
+        b = [fc[1]] * (self.n + 1)
+        b[self.j] = fc[0]
+        return b
+
+    def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
+        p = self.p
+        n, j, o = self.n, self.j, self.others
+        z0 = o[:j] + [x] + o[j:n - 1] + [y] + o[n - 1:n - 1 + j] + [v] + o[n - 1 + j:] + [u]
+        return BuildingFlight(self.free, z0, self._loads(fc), p.F0 / p.M, p.Omega, psi, T, p.D, always_bound,
+                              (j, n))
+
+    def stick(self, x, v, side, fc, psi, T):
+        p = self.p
+        n, j, o = self.n, self.j, self.others
+        z0 = o[:j] + [x] + o[j:n - 1] + o[n - 1:n - 1 + j] + [v] + o[n - 1 + j:]
+        mj = p.M
+        mr = self.ride_masses[j]
+        b = [fc[1]] * n
+        b[j] = (mj * fc[0] + p.m * fc[1]) / mr
+        a = p.F0 / mr
+        # N/m = x_j'' + a_g - w1^2 side d = row j of the ride system, plus constants
+        contact = ([-k for k in self.Kr[j]], [-c for c in self.Cr[j]], b[j] - p.w1 * p.w1 * side * p.d - fc[1])
+        return BuildingStick(self.ride, z0, j, side, p.d, b, a, p.Omega, psi, T, contact)
+
+    def snap(self, x, v, y, u, side):
+        return x, v, x - side * self.p.d, u
+
+    def collide(self, x, v, y, u, side, e):
+        mu = self.mu_j
+        v1, u1 = collide(v, u, mu, e)
+        return (x, v1, y, u1), impact_loss(self.p.M, mu, e, v, u), u - v, u1 - v1
+
+    # ---- outputs --------------------------------------------------------------------
+
+    def _accelerations(self, x, v, y, u, side, f, ground):
+        """Relative accelerations of all floors [m/s2] (f = applied force per floor-j mass)."""
+        p = self.p
+        n, j = self.n, self.j
+        xs, vs = self.floors(x, v)
+        if side:
+            K, C, mj = self.Kr, self.Cr, self.ride_masses[j]
+            loads = [-ground] * n
+            loads[j] = (p.M * f - mj * ground) / mj
+            q, dq = xs, vs
+        else:
+            K, C = self.Kf, self.Cf
+            loads = [-ground] * (n + 1)
+            loads[j] = f - ground
+            q, dq = xs + [y], vs + [u]
+        return [loads[i] - sum(K[i][k] * q[k] for k in range(len(q))) - sum(C[i][k] * dq[k] for k in range(len(q)))
+                for i in range(n)]
+
+    def acceleration(self, x, v, y, u, side, f, ground):
+        return self._accelerations(x, v, y, u, side, f, ground)[self.j]
+
+    def contact_accel(self, x, v, side, f, ground):
+        p = self.p
+        return self.acceleration(x, v, x - side * p.d, v, side, f, ground) + ground - p.w1 * p.w1 * side * p.d
+
+    def building_outputs(self, x, v, y, u, side, f, ground):
+        """(floor displacements [m], floor absolute accelerations [m/s2], storey drifts [m], base
+        shear [N]) of the current state."""
+        b = self.p.building
+        xs, vs = self.floors(x, v)
+        acc = [a + ground for a in self._accelerations(x, v, y, u, side, f, ground)]
+        return xs, acc, b.drifts(xs), b.base_shear(xs, vs)
+
+    def work(self, seg, tau, before, after, fc, psi, e_change):
+        """(work of the held loads and the harmonic, work taken by the dashpots) over a piece."""
+        p = self.p
+        b = p.building
+        xs0, xs1 = seg.start_floors, seg.floors_at(tau)
+        ground = -fc[1]
+        held = p.M * (fc[0] + ground) * (after[0] - before[0]) - ground * (
+            sum(m * (x1 - x0) for m, x0, x1 in zip(b.masses, xs0, xs1)) + p.m * (after[2] - before[2]))
+        w = held + p.M * harmonic_work(seg, tau, p.F0 / p.M, p.Omega, psi, _floor_velocity)
+        return w, w - e_change
+
+
+def _floor_velocity(seg, tau):
+    return seg.positions(tau)[1]
+
+
+class BuildingFlight(ModalFlight):
+    """Free flight of the building and the particle: z = (x_1..x_N, y, v_1..v_N, u); guards as in
+    ModalFlight on the gap x_j - y."""
+
+    __slots__ = ("_tau", "_z", "start_floors")
+
+    def __init__(self, system, z0, b, a, om, psi, T, D, always_bound, gap):
+        ModalFlight.__init__(self, system, z0, b, a, om, psi, T, D, always_bound, gap)
+        self._tau, self._z = 0.0, z0
+        self.start_floors = z0[:gap[1]]
+
+    def state(self, tau):
+        if tau != self._tau:
+            self._tau, self._z = tau, self.motion.state(tau)
+        return self._z
+
+    def floors_at(self, tau):
+        return self.state(tau)[:self.gap[1]]
+
+    def others(self, tau):
+        z = self.state(tau)
+        j, n = self.gap
+        return z[:j] + z[j + 1:n] + z[n + 1:n + 1 + j] + z[n + 2 + j:2 * n + 1]
+
+    def positions(self, tau):
+        z = self.state(tau)
+        j, n = self.gap
+        return z[j], z[n + 1 + j], z[n], z[2 * n + 1]
+
+    def values(self, tau):
+        j, n = self.gap
+        x, y, v, u = self.motion.state(tau, (j, n, n + 1 + j, 2 * n + 1))  # the gap's four rows only
+        g, dg = x - y, v - u
+        D = self.D
+        return D - g, -dg, D + g, dg
+
+    def derivs(self, tau, i):
+        z = self.state(tau)
+        j, n = self.gap
+        N = n + 1
+        s, c = self.motion.load(tau)
+        K, C, b, a, om = self.K, self.C, self.b, self.f, self.om
+        acc = [b[r] - sum(K[r][k] * z[k] for k in range(N)) - sum(C[r][k] * z[N + k] for k in range(N))
+               for r in range(N)]
+        acc[j] += a * s
+        jx = a * om * c - sum(K[j][k] * z[N + k] for k in range(N)) - sum(C[j][k] * acc[k] for k in range(N))
+        jy = -sum(K[n][k] * z[N + k] for k in range(N)) - sum(C[n][k] * acc[k] for k in range(N))
+        g, g1, g2, g3 = z[j] - z[n], z[N + j] - z[N + n], acc[j] - acc[n], jx - jy
+        if i == 0:
+            return self.D - g, -g1, -g2, -g3
+        return self.D + g, g1, g2, g3
+
+
+class BuildingStick:
+    """The particle rides stop `sgn` of floor j: z = (x_1..x_N, v_1..v_N) follows the riding
+    system; guard = sgn N/m, N/m = kx . x + kv . v + k0 + a sin(Omega tau + psi)."""
+
+    reach = math.inf
+    __slots__ = ("motion", "j", "n", "sgn", "d", "a", "om", "kx", "kv", "k0", "K", "C", "b", "bounds", "noise",
+                 "growth", "clear", "_tau", "_z", "start_floors")
+
+    def __init__(self, system, z0, j, sgn, d, b, a, om, psi, T, contact):
+        modes, K, C = system
+        n = modes.n
+        f = None
+        if a != 0.0:
+            f = [0.0] * n
+            f[j] = a
+        self.motion = motion = Motion(modes, z0, b, f, om, psi)
+        self.j, self.n, self.sgn, self.d, self.a, self.om, self.K, self.C, self.b = j, n, sgn, d, a, om, K, C, b
+        self.kx, self.kv, self.k0 = contact
+        self._tau, self._z = 0.0, z0
+        self.start_floors = z0[:n]
+        self.growth = max(modes.fastest, om if a != 0.0 else 0.0)
+        aa = abs(a)
+        # the guard's linear part c . z = kx . x + kv . v, as a row over the modes, and its bounds
+        V = modes.V
+        row = [sum(self.kx[i] * V[i][k] + self.kv[i] * V[n + i][k] for i in range(n)) for k in range(len(modes.lam))]
+        bound = motion.bounds(T, _ORDERS, vectors=[row])[0]
+        rest = motion.rest(vectors=[row])[0]
+        self.bounds = tuple(bound[o] + aa * om ** o for o in (2, 3, 4))
+        size = sum(abs(self.kx[i]) * abs(z0[i]) + abs(self.kv[i]) * abs(z0[n + i]) for i in range(n))
+        self.noise = (TOLERANCE * (abs(self.k0) + noise_size(abs(rest) + bound[0], size + T * bound[1], d) + aa),) + \
+            tuple(TOLERANCE * (bound[o] + aa * om ** o) for o in (1, 2, 3))
+        start = sgn * (sum(self.kx[i] * z0[i] + self.kv[i] * z0[n + i] for i in range(n)) + self.k0 + a * math.sin(psi))
+        floor = max(sgn * (self.k0 + rest) - bound[0] - aa, start - T * (bound[1] + aa * om))  # least s N/m on [0, T]
+        self.clear = floor > self.noise[0] * (1.0 + self.growth * T)
+
+    def state(self, tau):
+        if tau != self._tau:
+            self._tau, self._z = tau, self.motion.state(tau)
+        return self._z
+
+    def floors_at(self, tau):
+        return self.state(tau)[:self.n]
+
+    def others(self, tau):
+        z = self.state(tau)
+        j, n = self.j, self.n
+        return z[:j] + z[j + 1:n] + z[n:n + j] + z[n + j + 1:]
+
+    def positions(self, tau):
+        z = self.state(tau)
+        x, v = z[self.j], z[self.n + self.j]
+        return x, v, x - self.sgn * self.d, v
+
+    def _chain(self, tau):
+        """z, its acceleration and jerk vectors, and sin, cos of the load at tau."""
+        z = self.state(tau)
+        n, K, C, b, a, om = self.n, self.K, self.C, self.b, self.a, self.om
+        s, c = self.motion.load(tau)
+        x, v = z[:n], z[n:]
+        acc = [b[r] - sum(K[r][k] * x[k] for k in range(n)) - sum(C[r][k] * v[k] for k in range(n)) for r in range(n)]
+        acc[self.j] += a * s
+        jerk = [-sum(K[r][k] * v[k] for k in range(n)) - sum(C[r][k] * acc[k] for k in range(n)) for r in range(n)]
+        jerk[self.j] += a * om * c
+        snap = [-sum(K[r][k] * acc[k] for k in range(n)) - sum(C[r][k] * jerk[k] for k in range(n)) for r in range(n)]
+        snap[self.j] -= a * om * om * s
+        return x, v, acc, jerk, snap, s, c
+
+    def values(self, tau):
+        x, v, acc, _, _, s, c = self._chain(tau)
+        sg, kx, kv, a, om = self.sgn, self.kx, self.kv, self.a, self.om
+        rng = range(self.n)
+        return (sg * (sum(kx[i] * x[i] + kv[i] * v[i] for i in rng) + self.k0 + a * s),
+                sg * (sum(kx[i] * v[i] + kv[i] * acc[i] for i in rng) + a * om * c))
+
+    def derivs(self, tau, i=0):
+        x, v, acc, jerk, snap, s, c = self._chain(tau)
+        sg, kx, kv, a, om = self.sgn, self.kx, self.kv, self.a, self.om
+        rng = range(self.n)
+        return (sg * (sum(kx[k] * x[k] + kv[k] * v[k] for k in rng) + self.k0 + a * s),
+                sg * (sum(kx[k] * v[k] + kv[k] * acc[k] for k in rng) + a * om * c),
+                sg * (sum(kx[k] * acc[k] + kv[k] * jerk[k] for k in rng) - a * om * om * s),
+                sg * (sum(kx[k] * jerk[k] + kv[k] * snap[k] for k in rng) - a * om ** 3 * c))
