@@ -140,12 +140,12 @@ Result: PendulumImpactDamper_ref.csv.</p>
 
 def write(folder, version):
     """Fill `folder` with index.html, default_experiment.png and PendulumImpactDamper_ref.csv."""
-    from pidamper_fmu.slave import DERIVED, OUTPUTS, PARAMETERS
+    from pidamper_fmu.slave import BUILDING, DERIVED, OUTPUTS, PARAMETERS
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     rows = reference_result()
     write_reference_csv(folder / "PendulumImpactDamper_ref.csv", rows)
     write_plot(folder / "default_experiment.png", rows)
-    write_index(folder / "index.html", version, PARAMETERS, OUTPUTS, DERIVED)
+    write_index(folder / "index.html", version, PARAMETERS, OUTPUTS + BUILDING, DERIVED)
     return folder

@@ -92,7 +92,10 @@ OUTPUTS = (
     ("energy_dissipated", Real, "J", "energy dissipated by impacts so far", False),
     ("impacts", Integer, None, "impacts applied so far (chatter impacts included)", False),
     ("contact", Integer, None, "0 free, +1/-1 particle riding that stop", False),
-) + tuple((f"floor[{k}].x", Real, "m", f"displacement of floor {k} relative to the ground (0 beyond storeys)", False)
+)
+# a building's outputs (storeys >= 1; zeros without a building): last, so that a step of the pendulum
+# primary packs only OUTPUTS and DERIVED into the native layer's buffer
+BUILDING = tuple((f"floor[{k}].x", Real, "m", f"displacement of floor {k} relative to the ground (0 beyond storeys)", False)
           for k in range(1, MAX_STOREYS + 1)) + tuple(
     (f"floor[{k}].a", Real, "m/s2", f"absolute acceleration of floor {k} (0 beyond storeys)", True)
     for k in range(1, MAX_STOREYS + 1)) + tuple(
@@ -111,8 +114,8 @@ DERIVED = (
     ("impacts_unrecorded", Integer, None,
      "impacts of the last step beyond the 16 record slots (counted, not recorded)", False),
 )
-COMPUTED = OUTPUTS + DERIVED
-_NO_BUILDING = (0.0,) * (3 * MAX_STOREYS + 1)  # the building's outputs without a building
+COMPUTED = OUTPUTS + DERIVED + BUILDING
+_NO_BUILDING = (0.0,) * len(BUILDING)  # the building's outputs without a building
 _PAD = [(0.0,) * (MAX_STOREYS - n) for n in range(MAX_STOREYS + 1)]
 
 # Per-step impact record: local variables (hosts do not record them by default; any host reads them
@@ -141,6 +144,8 @@ _TIME_TOLERANCE = 1e-9  # relative mismatch of a step's start time accepted from
 # the native layer's buffer is a double per value reference (Integer values too, the layer converts
 # them): the outputs, and the record, each have consecutive value references, so one pack fills each
 _PACK_COMPUTED = struct.Struct(f"={len(COMPUTED)}d")
+_PACK_PENDULUM = struct.Struct(f"={len(OUTPUTS) + len(DERIVED)}d")
+_PACK_BUILDING = struct.Struct(f"={len(BUILDING)}d")
 _PACK_RECORD = struct.Struct(f"={len(RECORD)}d")
 _ZERO_RECORD = (0.0,) * (NR * IMPACT_SLOTS) + (0,) * IMPACT_SLOTS
 _STATE_KEYS = frozenset([name for name, *_ in PARAMETERS]
@@ -211,7 +216,8 @@ class PendulumImpactDamper(Fmi2Slave):
                 variability=Fmi2Variability.tunable if tunable else Fmi2Variability.fixed,
                 getter=(lambda name=name: getattr(self, name)), setter=self._setter(name, tunable)), nested=False)
         for k, (name, kind, *_) in enumerate(COMPUTED):
-            causality = Fmi2Causality.output if k < len(OUTPUTS) else Fmi2Causality.local
+            derived = len(OUTPUTS) <= k < len(OUTPUTS) + len(DERIVED)
+            causality = Fmi2Causality.local if derived else Fmi2Causality.output
             self._register_computed(name, kind, causality, self._output_getter(k))
         self._record_values = list(_ZERO_RECORD)  # slot-major Real fields, then the sides
         self._in_step = 0
@@ -257,12 +263,16 @@ class PendulumImpactDamper(Fmi2Slave):
         struct.pack_into("=Q", self._buffer, 8 * count, id(self))
         self._native = True
         self._record_in_buffer = True
+        self._clear_building()
 
     def _push(self, core):
         """Write every output, and the impact record when it changed, into the native layer's buffer."""
         buffer = self._buffer
         off_outputs, off_record = self._offsets
-        _PACK_COMPUTED.pack_into(buffer, off_outputs, *self._outputs(core))
+        if core.p.storeys:
+            _PACK_COMPUTED.pack_into(buffer, off_outputs, *self._outputs(core))
+        else:  # the building's zeros are in the buffer already (_clear_building)
+            _PACK_PENDULUM.pack_into(buffer, off_outputs, *self._pendulum_outputs(core))
         if self._in_step or self._record_in_buffer:
             _PACK_RECORD.pack_into(buffer, off_record, *self._record_values)
             self._record_in_buffer = self._in_step > 0
@@ -271,11 +281,20 @@ class PendulumImpactDamper(Fmi2Slave):
         """The values of COMPUTED in its order (of core `c`, default the current one)."""
         if c is None:
             c = self._core_now()
+        return self._pendulum_outputs(c) + (self._building_outputs(c) if c.p.storeys else _NO_BUILDING)
+
+    def _pendulum_outputs(self, c):
+        """The values of OUTPUTS and DERIVED in their order."""
         theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force = c.observables(self.F, self.a_g)
         n = self._in_step
-        return (theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact) + \
-            (self._building_outputs(c) if c.p.storeys else _NO_BUILDING) + \
-            (x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
+        return (theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact,
+                x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
+
+    def _clear_building(self):
+        """Zeros for the building's outputs in the native layer's buffer (a step packs them only
+        when there is a building)."""
+        if self._native:
+            _PACK_BUILDING.pack_into(self._buffer, self._offsets[0] + 8 * (len(OUTPUTS) + len(DERIVED)), *_NO_BUILDING)
 
     def _building_outputs(self, c):
         """floor[k].x, floor[k].a, storey[k].drift (zeros beyond storeys) and base_shear."""
@@ -325,6 +344,7 @@ class PendulumImpactDamper(Fmi2Slave):
         core = Damper(params, self.theta_0, self.theta_dot_0, self.alpha_0, self.alpha_dot_0, self._t0)
         core.on_impact = self._record
         core.bound_work()  # fmi2DoStep cannot be interrupted: a step's work is capped
+        self._clear_building()
         limit = self.angle_limit
         if not (math.isfinite(limit) and limit >= 0.0):
             raise ParameterError("angle_limit", limit, "it must be finite and >= 0 (0 turns the warning off)")
@@ -568,7 +588,7 @@ class PendulumImpactDamper(Fmi2Slave):
             structure.remove(child)
         outputs = SubElement(structure, "Outputs")
         initial = SubElement(structure, "InitialUnknowns")
-        for name, _, _, _, feedthrough in OUTPUTS:
+        for name, _, _, _, feedthrough in OUTPUTS + BUILDING:
             deps = f"{index['F']} {index['a_g']}" if feedthrough else ""
             SubElement(outputs, "Unknown", index=str(index[name]), dependencies=deps)
             SubElement(initial, "Unknown", index=str(index[name]))

@@ -40,12 +40,19 @@ def fmi_headers():
     return Path(fmpy.__file__).parent / "c-code"
 
 
-def build_trivial_python(out_dir):
-    """TrivialPythonFmu.fmu (pythonfmu's plain binary) in out_dir."""
+def build_trivial_python(out_dir, reals=2):
+    """TrivialPythonFmu.fmu (pythonfmu's plain binary) in out_dir; with `reals` other than 2, the same
+    model with that many Real outputs, TrivialPythonFmu<reals>.fmu (the floor for an FMU with as
+    many outputs)."""
     script = Path(__file__).with_name("trivial_model.py")
+    name = "TrivialPythonFmu" + ("" if reals == 2 else str(reals))
+    if reals != 2:
+        text = script.read_text().replace('REALS = ("y1", "y2")', f"REALS = {tuple(f'y{k + 1}' for k in range(reals))!r}")
+        script = Path(out_dir) / f"{name}.py"
+        script.write_text(text.replace("class TrivialPythonFmu(", f"class {name}("))
     cmd = [sys.executable, "-m", "pythonfmu", "build", "-f", str(script), "-d", str(out_dir), "--no-external-tool"]
     subprocess.run(cmd, check=True, capture_output=True)
-    return Path(out_dir) / "TrivialPythonFmu.fmu"
+    return Path(out_dir) / f"{name}.fmu"
 
 
 def build_trivial_c(out_dir):

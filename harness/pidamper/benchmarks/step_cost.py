@@ -88,13 +88,18 @@ def measure(args, tmp):
     (Path(tmp) / "plain").mkdir()
     plain = without_layer(damper, Path(tmp) / "plain" / damper.name)
     trivial_py = floor.build_trivial_python(tmp)
+    md = fmpy.read_model_description(str(damper))
+    outputs = [v for v in md.modelVariables if v.causality == "output"]
+    reals = sum(v.type == "Real" for v in outputs)
+    trivial_wide = floor.build_trivial_python(tmp, reals + len(outputs) - reals - 1)  # one Integer, as many outputs
     trivial_c = floor.build_trivial_c(tmp)
     run = lambda fmu, values, outputs: cpu_per_step(fmu, args.steps, args.h, values, outputs, args.repeats)  # noqa
     fmpy_rows = [
         ("compiled C FMU (floor), every output (3)", run(trivial_c, {}, None)),
         ("trivial pythonfmu FMU, every output (3)", run(trivial_py, {}, None)),
         ("damper, no contact, three outputs", run(damper, NO_CONTACT, THREE)),
-        ("damper, no contact, every output (10)", run(damper, NO_CONTACT, None)),
+        (f"damper, no contact, every output ({len(outputs)})", run(damper, NO_CONTACT, None)),
+        (f"trivial pythonfmu FMU, every output ({len(outputs)}: as many as the damper)", run(trivial_wide, {}, None)),
         ("damper without the native layer, no contact, every output", run(plain, NO_CONTACT, None)),
         ("damper, free decay (FR 5, d 0.1 m, e 0.2, A0 = 0.7 rad), three outputs",
          run(damper, {"theta_dot_0": 0.7 * W2}, THREE)),
@@ -137,12 +142,16 @@ def report(args, fmpy_rows, host_rows, impact_rows):
     for name, (cost, impacts) in fmpy_rows:
         lines.append(f"| {name} | {cost * 1e6:.1f} | {cost / base:.2f} | {'' if impacts is None else impacts} |")
     three, every = fmpy_rows[2][1][0] / base, fmpy_rows[3][1][0] / base
+    wide = fmpy_rows[4][1][0] / base
+    like = every / wide
     lines += [
         "",
         f"- no contact, three outputs: **{three:.2f}x** the trivial pythonfmu FMU (target <= {TARGETS['three']}: "
         f"{'met' if three <= TARGETS['three'] else 'not met'})",
-        f"- no contact, every output: **{every:.2f}x** (target <= {TARGETS['every']}: "
-        f"{'met' if every <= TARGETS['every'] else 'not met'})",
+        f"- no contact, every output: **{like:.2f}x** the trivial pythonfmu FMU with as many outputs (target <= "
+        f"{TARGETS['every']}: {'met' if like <= TARGETS['every'] else 'not met'}); {every:.2f}x the three-output one, "
+        f"whose every-output step the wide trivial FMU itself costs {wide:.2f} times: fmpy records every output "
+        "in Python, about 0.3 us per output and step whatever the FMU",
         "",
         "## In a native host that reads every output at every step",
         "",

@@ -1,0 +1,175 @@
+"""Exact motion of a shear building (building.ShearBuilding) under held loads and floor impulses.
+
+With x the floor displacements relative to the ground [m] and classical modal damping,
+
+    M x'' + C x' + K x = f - M 1 a_g,        f = (F_1, ..., F_N) [N], a_g [m/s2] held over a step,
+
+decouples into the modes x = Phi q (Phi mass-normalised: Phi^T M Phi = I, Phi^T K Phi = diag(w_r^2),
+Phi^T C Phi = diag(2 zeta w_r)):
+
+    q_r'' + 2 zeta w_r q_r' + w_r^2 q_r = p_r,      p_r = sum_k Phi[k][r] (F_k - m_k a_g),
+
+each a damped oscillator under a constant load, solved in closed form (`sdof`).  An impulse J
+[N s] on floor k at an instant changes floor k's velocity by J / m_k and no displacement; in
+modal terms q_r' jumps by Phi[k][r] J.  A step with impulses at instants inside it is solved
+piece by piece between them, so it is exact for held loads and instantaneous impulses.
+
+The state is kept in modal coordinates (q, q'), so stepping never re-projects; floor values are
+derived from it.  Plain Python (math): this ships inside the FMU.
+"""
+import math
+
+from .building import ShearBuilding
+from .params import SCALE_RANGE, ZETA_GAP, ParameterError, check_finite
+
+#: most storeys of the ShearBuilding FMU
+MAX_STOREYS = 10
+
+
+def make_building(masses, stiffnesses, zeta=0.0):
+    """A ShearBuilding of floor masses [kg] and storey stiffnesses [N/m] (floor / storey 1 first)
+    with every mode at damping ratio zeta, after checking them: a ParameterError names the value
+    (floor[k].m, storey[k].k, zeta_s) and the rule."""
+    n = len(masses)
+    if not 1 <= n <= MAX_STOREYS or len(stiffnesses) != n:
+        raise ParameterError("storeys", n, f"it must lie in 1..{MAX_STOREYS}, with a mass and a stiffness per storey")
+    lo, hi = SCALE_RANGE
+    for pattern, values in (("floor[{}].m", masses), ("storey[{}].k", stiffnesses)):
+        for k, value in enumerate(values, start=1):
+            if not lo <= check_finite(pattern.format(k), value) <= hi:
+                raise ParameterError(pattern.format(k), value, f"it must lie in {lo:g} to {hi:g} (> 0)")
+    zeta = check_finite("zeta_s", zeta)
+    if not 0.0 <= zeta < 1.0 or 1.0 - zeta * zeta < ZETA_GAP:
+        raise ParameterError("zeta_s", zeta, "it must lie in [0, 1) (every mode underdamped)")
+    return ShearBuilding(masses, stiffnesses, zeta)
+
+
+def sdof(w, zeta, q0, v0, p, tau):
+    """(q, q') at tau >= 0 of q'' + 2 zeta w q' + w^2 q = p (held), from (q0, v0); 0 <= zeta < 1.
+
+    Written about the start, q = q0 + A (exp(-s tau) cos(wd tau) - 1) + B exp(-s tau) sin(wd tau)
+    with A = q0 - p/w^2, B = (v0 + s A)/wd, s = zeta w, wd = w sqrt(1 - zeta^2), and
+    exp(-s tau) cos - 1 = expm1(-s tau) cos - 2 sin^2(wd tau / 2): no cancellation for short
+    steps, nor when the held load dwarfs the motion."""
+    ww = w * w
+    s = zeta * w
+    wd = w * math.sqrt(1.0 - zeta * zeta)
+    a = q0 - p / ww
+    half = 0.5 * wd * tau
+    sh = math.sin(half)
+    sn = 2.0 * sh * math.cos(half)  # sin(wd tau)
+    omc = 2.0 * sh * sh  # 1 - cos(wd tau)
+    if s == 0.0:
+        ec_m1, es = -omc, sn
+        decay = 1.0
+    else:
+        em1 = math.expm1(-s * tau)
+        decay = 1.0 + em1
+        ec_m1 = em1 * (1.0 - omc) - omc  # exp(-s tau) cos(wd tau) - 1
+        es = decay * sn
+    b = (v0 + s * a) / wd
+    q = q0 + a * ec_m1 + b * es
+    v = v0 + v0 * ec_m1 - (ww * a + s * v0) / wd * es
+    return q, v
+
+
+class ShearMotion:
+    """A shear building stepped exactly under held loads and impulses (see the module doc).
+
+    building: a ShearBuilding (masses, stiffnesses, zeta).  State: floor displacements and
+    velocities relative to the ground, zero at the start unless x0, v0 are given."""
+
+    def __init__(self, building, x0=None, v0=None, t0=0.0):
+        if not isinstance(building, ShearBuilding):
+            raise TypeError("building must be a ShearBuilding")
+        self.b = building
+        n = building.n
+        self.n = n
+        x0 = [0.0] * n if x0 is None else [check_finite(f"floor[{k + 1}].x_0", x) for k, x in enumerate(x0)]
+        v0 = [0.0] * n if v0 is None else [check_finite(f"floor[{k + 1}].v_0", v) for k, v in enumerate(v0)]
+        if len(x0) != n or len(v0) != n:
+            raise ParameterError("x0, v0", (x0, v0), f"they need {n} entries, one per floor")
+        self.t = check_finite("start time", t0)
+        phi, m = building.shapes, building.masses
+        # modal projections q = Phi^T M x
+        self.q = [sum(phi[k][r] * m[k] * x0[k] for k in range(n)) for r in range(n)]
+        self.qd = [sum(phi[k][r] * m[k] * v0[k] for k in range(n)) for r in range(n)]
+
+    # ---- floor values ------------------------------------------------------------------
+
+    def floors(self):
+        """(x, v): floor displacements and velocities relative to the ground [m, m/s]."""
+        phi, n = self.b.shapes, self.n
+        q, qd = self.q, self.qd
+        x = [sum(phi[k][r] * q[r] for r in range(n)) for k in range(n)]
+        v = [sum(phi[k][r] * qd[r] for r in range(n)) for k in range(n)]
+        return x, v
+
+    def absolute_accelerations(self, forces, x=None, v=None):
+        """x_k'' + a_g = (M^-1 (F - C x' - K x))_k [m/s2] of every floor under the forces F [N]
+        (the ground acceleration cancels: it moves the frame, not the floors' absolute motion)."""
+        if x is None:
+            x, v = self.floors()
+        b, n = self.b, self.n
+        K, C, m = b.K, b.C, b.masses
+        return [(forces[k] - sum(C[k][j] * v[j] + K[k][j] * x[j] for j in range(n))) / m[k] for k in range(n)]
+
+    def energy(self):
+        """Kinetic plus strain energy of the floors [J] (relative motion)."""
+        return self.b.energy(*self.floors())
+
+    # ---- stepping -------------------------------------------------------------------------
+
+    def advance(self, t_end, forces, ground=0.0, impulses=()):
+        """Move to t_end [s] under the held floor forces `forces` [N] (N entries) and ground
+        acceleration `ground` [m/s2]; `impulses`: (time, floor index 0..N-1, J [N s]) applied at
+        those times (clamped into [t, t_end])."""
+        b, n = self.b, self.n
+        total = t_end + ground + sum(forces)
+        if total - total != 0.0:
+            check_finite("t_end", t_end)
+            check_finite("a_g", ground)
+            for k, f in enumerate(forces):
+                check_finite(f"F[{k + 1}]", f)
+        if t_end < self.t:
+            raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
+        phi, m = b.shapes, b.masses
+        loads = [sum(phi[k][r] * (forces[k] - m[k] * ground) for k in range(n)) for r in range(n)]
+        kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0)
+        t = self.t
+        for t_k, k, j in kicks:
+            self._free(t_k - t, loads)
+            t = t_k
+            for r in range(n):
+                self.qd[r] += phi[k][r] * j
+        self._free(t_end - t, loads)
+        self.t = t_end
+
+    def _free(self, tau, loads):
+        if tau <= 0.0:
+            return
+        b = self.b
+        zeta = b.zeta
+        q, qd = self.q, self.qd
+        for r, w in enumerate(b.omegas):
+            q[r], qd[r] = sdof(w, zeta, q[r], qd[r], loads[r], tau)
+
+    # ---- state ----------------------------------------------------------------------------
+
+    def get_state(self):
+        return {"t": self.t, "q": list(self.q), "qd": list(self.qd)}
+
+    def set_state(self, state):
+        if not isinstance(state, dict) or set(state) != {"t", "q", "qd"}:
+            raise ParameterError("state", state if not isinstance(state, dict) else sorted(state),
+                                 "it must be the dict ShearMotion.get_state writes (keys t, q, qd)")
+        check_finite("state t", state["t"])
+        for key in ("q", "qd"):
+            values = state[key]
+            if not isinstance(values, list) or len(values) != self.n:
+                raise ParameterError(f"state {key}", values, f"it must be a list of {self.n} numbers")
+            for k, value in enumerate(values):
+                check_finite(f"state {key}[{k}]", value)
+        self.t = float(state["t"])
+        self.q = [float(v) for v in state["q"]]
+        self.qd = [float(v) for v in state["qd"]]

@@ -1,0 +1,369 @@
+"""The damper unit alone: the particle and its stops, for a structure modelled elsewhere.
+
+A particle of mass m hangs as a pendulum (length L1, w1 = sqrt(g/L1), small angles) from an
+attachment point of someone else's structure, whose mass at that point is M_s.  The unit knows the
+attachment only through its absolute acceleration a_s [m/s2], held over each step.  In the
+relative coordinate r = y - x_s [m] (particle minus attachment):
+
+    r'' = -w1^2 r - 2 zeta_p w1 r' - a_s          between contacts,   stops at r = +-d.
+
+The force of the unit on the structure (positive along the structure's x) is the wire and dashpot
+force m w1^2 r + 2 zeta_p m w1 r', the stop's reaction while the particle rides a stop, and the
+impulses of the impacts.
+
+Impact law (two bodies, m and M_s, Newton restitution e, momentum conserved).  With w the
+approach velocity r' before, the impulse on the structure is J = m M_s / (m + M_s) (1 + e) w
+(the particle receives -J); energy lost 0.5 m M_s / (m + M_s) (1 - e^2) w^2.  What the unit
+does with its own relative motion depends on how the host passes the impulse on
+(`impulse_aware`):
+
+- 0, mean force (default): the host passes F_s, the step's mean force, impulses included, and
+  the structure's acceleration a_s carries the attachment's share J / M_s back to the unit in
+  the next step.  So the unit jumps ONLY the particle's velocity, r' -> w - J/m
+  = w (m - e M_s) / (m + M_s).  (Jumping the attachment as well would make the structure's
+  response reach the unit twice: once here, once through a_s.)
+  Rule for m > e M_s: after that jump the particle still approaches the stop in the unit's frame;
+  the contact is then plastic in the unit's frame: the particle's relative velocity is brought
+  to zero, total impulse J = m w.  That is the limit of repeated impacts of the law, each at the
+  velocity the last one left (a geometric series of ratio (m - e M_s) / (m + M_s)): the particle
+  ends on the stop at zero relative speed, riding it while pressed (or leaving it) until the
+  attachment's share arrives through a_s.  The loss booked is that of the impulse m w between the
+  two bodies, 0.5 m w^2 (M_s - m) / M_s: the co-simulated pair then separates as with restitution
+  m / M_s, not e, so this mode cannot converge to the two-body law when m > e M_s (measured:
+  docs/cosim); use impulse_aware = 1 there.
+- 1, impulse-aware: the host passes the impulse itself (J_s at t_J) to a structure that applies
+  it at that instant, and F_s holds the smooth force only; the structure's acceleration then
+  never carries the impulse, so the unit jumps the attachment too: the full two-body law acts in
+  its frame, r' -> -e w, exactly as in a monolithic model.
+
+Chatter collapses into sticking by the rule of damper.py (a rebound that would rise less than
+CHATTER_HEIGHT position-rounding units while the particle is pressed into the stop ends the
+sequence with a plastic impact: relative velocity to zero, by the mode's law).  Riding a stop:
+r = s d, r' = 0; the stop's force on the particle N = m (a_s + w1^2 s d) is constant under held
+a_s, so the particle rides while s N < 0 (pressed: -s a_s > w1^2 d) and is released at the
+step's start otherwise.  Events are located by events.locate (conservative advancement, no
+contact can be missed), and each call's work is capped (bound_work) as Damper's.
+
+Outputs of a step [t, t + h]: F_s [N], the mean force on the structure, F_s h = -(change of the
+particle's absolute momentum) - (in mode 1) the impulses J_s, where the particle's absolute
+velocity changes by Delta r' + a_s h (+ the attachment's jumps J/M_s the unit applied itself in
+mode 1): momentum passes exactly, to rounding.  J_s [N s] the step's impulses on the structure
+(all modes), t_J [s] their |J|-weighted time (the step's end without impulses).
+Plain Python (math): this ships inside the FMU.
+"""
+import math
+
+from .damper import CHATTER_HEIGHT, MAX_PIECES
+from .events import CROSS, classify, locate, resolution_speed
+from .params import SCALE_RANGE, ZETA_GAP, ParameterError, check_finite, check_restitution
+from .segments import GAP_RESOLUTION, TOLERANCE, noise_size
+
+FREE = 0
+STICK = 1
+
+MEAN_FORCE = 0
+IMPULSE_AWARE = 1
+
+#: default parameters of the unit (the FMU's start values): a 6 t particle (2 % of the default
+#: ShearBuilding's 300 t) on a 1 m wire in a +-5 cm gap, hung from a 100 t floor
+DEFAULTS = {"m": 6000.0, "M_s": 1e5, "L1": 1.0, "g": 9.81, "d": 0.05, "e": 0.5, "zeta_p": 0.0,
+            "impulse_aware": MEAN_FORCE, "r_0": 0.0, "r_dot_0": 0.0}
+
+STATE_KEYS = ("t", "r", "rd", "mode", "side", "fresh", "impacts", "dissipated", "F_s", "J_s", "t_J",
+              "impacts_in_step")
+_CHOICES = {"mode": (FREE, STICK), "side": (-1, 0, 1), "fresh": (False, True)}
+
+
+class UnitFlight:
+    """Free flight of the particle relative to the attachment over one piece: the damped
+    oscillator r'' + 2 zeta w r' + w^2 r = p (p = -a_s held); guards D - r (stop +1) and D + r
+    (stop -1); the guard protocol of events.py (values, derivs, bounds, noise, growth, clear)."""
+
+    reach = math.inf
+    __slots__ = ("w", "ww", "s", "wd", "p", "r0", "v0", "a", "b", "k", "D", "bounds", "noise", "growth", "clear")
+
+    def __init__(self, w, zeta, r, v, p, D, T, always_bound=False):
+        ww = w * w
+        s = zeta * w
+        wd = w * math.sqrt(1.0 - zeta * zeta)
+        a = r - p / ww
+        b = (v + s * a) / wd
+        self.w, self.ww, self.s, self.wd, self.p, self.r0, self.v0, self.a, self.b, self.D = \
+            w, ww, s, wd, p, r, v, a, b, D
+        self.k = (ww * a + s * v) / wd
+        amp = math.hypot(a, b)  # |r - r_e| <= amp, |d^j r / dtau^j| <= w^j amp (|lambda| = w, Re lambda <= 0)
+        re = abs(p) / ww
+        swing = re + amp
+        zmax = min(swing, abs(r) + abs(v) * T + 0.5 * ww * amp * T * T)
+        n0 = TOLERANCE * (D + noise_size(swing, zmax, D))
+        self.growth = w
+        self.clear = zmax < D - n0 * (1.0 + w * T)
+        if self.clear and not always_bound:
+            self.bounds = self.noise = None
+            return
+        b1 = min(w * amp, abs(v) + ww * amp * T)
+        self.bounds = (ww * amp, ww * w * amp, ww * ww * amp)
+        self.noise = (n0, TOLERANCE * b1, TOLERANCE * (ww * amp + ww * re), TOLERANCE * ww * w * amp)
+
+    def positions(self, tau):
+        """(r, r') at tau (shear_motion.sdof, with the constants of the piece)."""
+        s, v0 = self.s, self.v0
+        half = 0.5 * self.wd * tau
+        sh = math.sin(half)
+        sn = 2.0 * sh * math.cos(half)
+        omc = 2.0 * sh * sh
+        if s == 0.0:
+            ec_m1, es = -omc, sn
+        else:
+            em1 = math.expm1(-s * tau)
+            ec_m1 = em1 * (1.0 - omc) - omc
+            es = (1.0 + em1) * sn
+        return self.r0 + self.a * ec_m1 + self.b * es, v0 + v0 * ec_m1 - self.k * es
+
+    def values(self, tau):
+        r, v = self.positions(tau)
+        D = self.D
+        return D - r, -v, D + r, v
+
+    def derivs(self, tau, i):
+        r, v = self.positions(tau)
+        r2 = self.p - self.ww * r - 2.0 * self.s * v
+        r3 = -self.ww * v - 2.0 * self.s * r2
+        if i == 0:
+            return self.D - r, -v, -r2, -r3
+        return self.D + r, v, r2, r3
+
+
+def _positive(name, value):
+    lo, hi = SCALE_RANGE
+    if not lo <= check_finite(name, value) <= hi:
+        raise ParameterError(name, value, f"it must lie in {lo:g} to {hi:g} (> 0)")
+    return float(value)
+
+
+class DamperUnit:
+    """The particle and its stops, driven by the attachment's acceleration (see the module doc)."""
+
+    NAMES = tuple(DEFAULTS)
+
+    def __init__(self, m=DEFAULTS["m"], M_s=DEFAULTS["M_s"], L1=DEFAULTS["L1"], g=DEFAULTS["g"], d=DEFAULTS["d"],
+                 e=DEFAULTS["e"], zeta_p=DEFAULTS["zeta_p"], impulse_aware=DEFAULTS["impulse_aware"],
+                 r_0=DEFAULTS["r_0"], r_dot_0=DEFAULTS["r_dot_0"], t0=0.0):
+        lo, hi = SCALE_RANGE
+        m = check_finite("m", m)
+        if m < 0.0 or (m != 0.0 and not lo <= m <= hi):
+            raise ParameterError("m", m, f"it must be 0 (no particle) or lie in {lo:g} to {hi:g}")
+        M_s = _positive("M_s", M_s)
+        if not m < M_s:
+            raise ParameterError("m", m, f"it must be < M_s = {M_s!r}: a unit coupled through held accelerations "
+                                 "amplifies the riding particle's reaction by m/M_s per step (the explicit loop "
+                                 "diverges from m = M_s on), and the unit-frame plastic rule would create energy")
+        L1, g, d = _positive("L1", L1), _positive("g", g), _positive("d", d)
+        e = check_restitution(e)
+        zeta_p = check_finite("zeta_p", zeta_p)
+        if not 0.0 <= zeta_p < 1.0 or 1.0 - zeta_p * zeta_p < ZETA_GAP:
+            raise ParameterError("zeta_p", zeta_p, "it must lie in [0, 1) (underdamped)")
+        if impulse_aware not in (MEAN_FORCE, IMPULSE_AWARE) or isinstance(impulse_aware, bool):
+            raise ParameterError("impulse_aware", impulse_aware,
+                                 "it must be 0 (F_s carries the impulses) or 1 (J_s, t_J carry them)")
+        w = math.sqrt(g / L1)
+        if not lo <= w <= hi:
+            raise ParameterError("g, L1", (g, L1), f"w1 = sqrt(g/L1) = {w!r} lies outside {lo:g} to {hi:g}")
+        r_0, r_dot_0 = check_finite("r_0", r_0), check_finite("r_dot_0", r_dot_0)
+        if abs(r_0) > d:
+            raise ParameterError("r_0", r_0, f"the initial particle position must lie within the stops, "
+                                 f"|r_0| <= d = {d!r}")
+        self.m, self.M_s, self.L1, self.g, self.d, self.e, self.zeta_p = m, M_s, L1, g, d, e, zeta_p
+        self.impulse_aware = int(impulse_aware)
+        self.w = w
+        self.mu = m * M_s / (m + M_s)  # reduced mass of the impact law
+        self.t = check_finite("start time", t0)
+        self.r, self.rd = r_0, r_dot_0
+        self.mode, self.side, self.fresh = FREE, 0, False
+        self.impacts = 0
+        self.dissipated = 0.0
+        self.F_s = self.J_s = 0.0
+        self.t_J = self.t
+        self.impacts_in_step = 0
+        self._max_span = 2.0 * math.pi / w
+        self.max_pieces = math.inf
+        self.pieces = 0
+        self.on_impact = None  # optional callback(t, side, J, rd_before, rd_after, loss)
+
+    # ---- public API ------------------------------------------------------------------------
+
+    def bound_work(self):
+        """Cap each advance() at damper.MAX_PIECES pieces (fmi2DoStep cannot be interrupted)."""
+        self.max_pieces = MAX_PIECES
+
+    @property
+    def contact(self):
+        """+1 / -1 while the particle rides that stop, else 0."""
+        return self.side if self.mode == STICK else 0
+
+    def set_restitution(self, e):
+        self.e = check_restitution(e)
+
+    def advance(self, t_end, a_s):
+        """Move to t_end [s] under the attachment's absolute acceleration a_s [m/s2] held; sets
+        F_s, J_s, t_J and impacts_in_step of the step."""
+        total = t_end + a_s
+        if total - total != 0.0:
+            check_finite("a_s", a_s)
+            check_finite("t_end", t_end)
+        t0 = self.t
+        h = t_end - t0
+        if h < 0.0:
+            raise ParameterError("t_end", t_end, f"it must be >= the current time {t0!r}")
+        if h > self._max_span * self.max_pieces:
+            raise ParameterError("step", h, f"one call may take at most {self.max_pieces} pieces of at most one "
+                                 f"particle period {self._max_span:.6g} s: take shorter communication steps")
+        rd_start = self.rd
+        self._sums = [0.0, 0.0, 0.0]  # sum J, sum |J|, sum |J| (t - t0)
+        impacts = self.impacts
+        elapsed = 0.0
+        pieces = 0
+        ready = None
+        cap = self.max_pieces
+        while elapsed < h:
+            pieces += 1
+            if pieces > cap:
+                self.t = t0 + elapsed
+                raise ParameterError("step", h, f"it needed more than {cap} pieces by t = {self.t!r} s "
+                                     f"({self.impacts - impacts} impacts among them): take shorter communication steps")
+            remaining = h - elapsed
+            span = min(remaining, self._max_span)
+            if self.mode == STICK:
+                ww, d = self.w * self.w, self.d
+                press = -self.side * a_s - ww * d  # s r'' the free motion would have at the stop
+                if press > TOLERANCE * (abs(a_s) + ww * d):
+                    elapsed = h  # pressed: rides the rest of the step (N is constant under held a_s)
+                    break
+                self.mode, self.side, self.fresh = FREE, 0, True  # released
+                continue
+            seg = ready or self._flight(a_s, span)
+            ready = None
+            if not seg.clear and seg.noise[0] * GAP_RESOLUTION > self.d:
+                raise ParameterError("d", self.d, f"the motion here reaches {seg.noise[0] / TOLERANCE:.6g} m, so the "
+                                     f"gap is known to {seg.noise[0]:.3g} only, more than 1/{GAP_RESOLUTION:g} of the "
+                                     f"clearance: contacts cannot be resolved at t = {t0 + elapsed!r} s")
+            event = locate(seg, span, self.fresh)
+            if event is None:
+                self._move(seg, span)
+                elapsed = h if span == remaining else elapsed + span
+                continue
+            tau, kind, guard = event
+            self._move(seg, tau)
+            elapsed = h if tau >= remaining else elapsed + tau
+            ready = self._handle(kind, 1 - 2 * guard, a_s, min(h - elapsed, self._max_span), t0 + elapsed, t0)
+        self.pieces = pieces
+        self.t = t_end
+        total_j, abs_j, moment = self._sums
+        self.J_s = total_j
+        self.t_J = t0 + moment / abs_j if abs_j > 0.0 else t_end
+        self.impacts_in_step = self.impacts - impacts
+        if h > 0.0:
+            change = -self.m * ((self.rd - rd_start) + a_s * h)  # minus the particle's absolute momentum change
+            if self.impulse_aware:
+                change -= total_j * (1.0 + self.m / self.M_s)
+            self.F_s = change / h
+        else:
+            self.F_s = 0.0
+        if self.r - self.r != 0.0 or self.rd - self.rd != 0.0 or self.F_s - self.F_s != 0.0:
+            raise ParameterError("a_s", a_s, f"the motion it drives leaves the range of float arithmetic by t = "
+                                 f"{self.t!r} s")
+
+    def get_state(self):
+        return {k: getattr(self, k) for k in STATE_KEYS}
+
+    def set_state(self, state):
+        if not isinstance(state, dict):
+            raise ParameterError("state", type(state).__name__, "it must be the dict DamperUnit.get_state writes")
+        for key in STATE_KEYS:
+            if key not in state:
+                raise ParameterError(f"state {key}", None, "the key is missing: a state this model did not write")
+            value = state[key]
+            if key in _CHOICES:
+                if type(value) not in (int, bool) or value not in _CHOICES[key]:
+                    raise ParameterError(f"state {key}", value, f"it must be one of {_CHOICES[key]}")
+            elif key in ("impacts", "impacts_in_step"):
+                if type(value) is not int or value < 0:
+                    raise ParameterError(f"state {key}", value, "it must be an integer >= 0")
+            else:
+                check_finite(f"state {key}", value)
+        for key in STATE_KEYS:
+            setattr(self, key, state[key])
+
+    # ---- internals -------------------------------------------------------------------------
+
+    def _flight(self, a_s, span, always_bound=False):
+        return UnitFlight(self.w, self.zeta_p, self.r, self.rd, -a_s, self.d, span, always_bound)
+
+    def _move(self, seg, tau):
+        self.r, self.rd = seg.positions(tau)
+        if tau > 0.0:
+            self.fresh = False
+
+    def _handle(self, kind, side, a_s, span, t, t0):
+        """A contact on stop `side` at time t: impact (CROSS) or touch; the mode after it.
+        Returns the flight from the new state when the particle stays free, else None."""
+        self.r = side * self.d  # exactly on the stop (removes rounding-level overlap)
+        if kind == CROSS:
+            self._impact(side, t, t0)
+        seg = self._flight(a_s, span, always_bound=True)
+        g, g1, g2, g3 = seg.derivs(0.0, 0 if side > 0 else 1)
+        n0, n1, n2, n3 = seg.noise
+        _, first = classify(g1, g2, g3, resolution_speed(g2, n0, n1, n2), n2, n3)
+        chatter_ends = g2 < -n2 and g1 * g1 <= -2.0 * g2 * CHATTER_HEIGHT * n0
+        if chatter_ends or first < 0.0:
+            self._plastic(side, t, t0, counted=kind == CROSS)
+            self.mode, self.side, self.fresh = STICK, side, True
+            return None
+        self.mode, self.side, self.fresh = FREE, 0, True
+        return seg
+
+    def _impact(self, side, t, t0):
+        """Newton's two-body law at approach velocity w = r' (see the module doc)."""
+        w = self.rd
+        m, M_s, e = self.m, self.M_s, self.e
+        J = self.mu * (1.0 + e) * w
+        if self.impulse_aware:
+            after = -e * w
+            loss = 0.5 * self.mu * (1.0 - e * e) * w * w
+        else:
+            after = w * (m - e * M_s) / (m + M_s)
+            loss = 0.5 * self.mu * (1.0 - e * e) * w * w
+            if after * side > 0.0:  # m > e M_s: still approaching in the unit's frame: plastic there
+                J, after = m * w, 0.0
+                loss = 0.5 * m * w * w * (M_s - m) / M_s
+        self.rd = after
+        self.impacts += 1
+        self._book(J, loss, t, t0)
+        if self.on_impact is not None:
+            self.on_impact(t, side, J, w, after, loss)
+
+    def _plastic(self, side, t, t0, counted):
+        """End of a chatter sequence (or a touch's rounding-level speed): relative velocity to zero
+        by the mode's plastic law; counted as an impact when the contact was one."""
+        w = self.rd
+        if w == 0.0:
+            return
+        if self.impulse_aware:
+            J = self.mu * w
+            loss = 0.5 * self.mu * w * w
+        else:
+            J = self.m * w
+            loss = 0.5 * self.m * w * w * (self.M_s - self.m) / self.M_s
+        self.rd = 0.0
+        self._book(J, loss, t, t0)
+        if counted:
+            self.impacts += 1
+            if self.on_impact is not None:
+                self.on_impact(t, side, J, w, 0.0, loss)
+
+    def _book(self, J, loss, t, t0):
+        self.dissipated += loss
+        sums = self._sums
+        sums[0] += J
+        sums[1] += abs(J)
+        sums[2] += abs(J) * (t - t0)
