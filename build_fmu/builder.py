@@ -15,7 +15,7 @@ _REPO_SRC = Path(__file__).resolve().parent.parent / "fmu_src"
 #: the component FMUs built beside PendulumImpactDamper: model name -> its adapter module
 COMPONENTS = {"PendulumImpactDamperUnit": "unit_slave", "ShearBuilding": "building_slave"}
 #: adapter modules every component ships besides its own (the shared conventions and base class)
-COMPONENT_SHARED = ("slave.py", "adapter.py")
+COMPONENT_SHARED = ("common.py", "adapter.py")
 
 
 # The model script pythonfmu loads.  pythonfmu 0.7 re-executes it at every fmi2Instantiate,
@@ -65,7 +65,7 @@ def adapter_files(model=MODEL_NAME):
     """The adapter modules `model` ships (its own module last)."""
     slave, _ = sources()
     if model == MODEL_NAME:
-        return [slave]
+        return [slave.with_name("common.py"), slave]
     if model not in COMPONENTS:
         raise ValueError(f"model {model!r} is not allowed: one of {', '.join((MODEL_NAME,) + tuple(COMPONENTS))}")
     return [slave.with_name(name) for name in COMPONENT_SHARED] + [slave.with_name(COMPONENTS[model] + ".py")]
@@ -88,7 +88,7 @@ def build(out_dir="dist"):
     from . import documentation
 
     _, physics = sources()
-    slave = adapter_files()[0]
+    slave = adapter_files()[-1]
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
 

@@ -19,7 +19,8 @@ from pythonfmu import Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
 
 from pidamper_physics import ParameterError
-from pidamper_physics.shear_motion import MAX_STOREYS, ShearMotion, make_building
+from pidamper_physics.params import FLOOR_MASS, MAX_STOREYS, STOREY_STIFFNESS
+from pidamper_physics.shear_motion import ShearMotion, make_building
 
 from .adapter import ComponentSlave
 
@@ -30,7 +31,7 @@ MODEL = "ShearBuilding"
 FLOORS = range(1, MAX_STOREYS + 1)
 
 #: the default building (see the module doc)
-DEFAULT_STOREYS, DEFAULT_FLOOR_M, DEFAULT_STOREY_K = 3, 1e5, 8e7
+DEFAULT_STOREYS, DEFAULT_FLOOR_M, DEFAULT_STOREY_K = 3, FLOOR_MASS, STOREY_STIFFNESS
 
 PARAMETERS = (
     ("storeys", Integer, DEFAULT_STOREYS, None, 1, MAX_STOREYS, f"number of storeys, 1..{MAX_STOREYS}", False),

@@ -19,11 +19,9 @@ reaches pythonfmu (it would answer fmi2Fatal and release Python objects it still
 layer (a build with no C compiler) the exception propagates as before.  A swing beyond angle_limit
 (the small-angle validity of the linear model) is logged once per run at warning level.
 """
-import ctypes
 import math
 import struct
 import uuid
-from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real, String
 from pythonfmu.enums import Fmi2Status
@@ -32,6 +30,8 @@ from pythonfmu.default_experiment import DefaultExperiment
 from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, Damper, ParameterError, Params, SmallAngleMonitor
 from pidamper_physics.params import (FLOOR_MASS, MAX_STOREYS, NONLINEAR, STOREY_STIFFNESS, check_finite,
                                      check_restitution)
+
+from .common import LINK, FmiEntry, Refusal, describe, fmi_text, guarded
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
@@ -135,12 +135,6 @@ RECORD = tuple((f"impact[{k + 1}].{field}", Real, unit, f"impact {k + 1} of the 
     for k in range(IMPACT_SLOTS))
 NR = len(IMPACT_REALS)
 
-_UNITS = {"s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "m": {"m": 1}, "m/s2": {"m": 1, "s": -2}, "kg": {"kg": 1}, "1": {},
-          "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "N": {"kg": 1, "m": 1, "s": -2},
-          "J": {"kg": 1, "m": 2, "s": -2}, "N/m": {"kg": 1, "s": -2}}
-
-_TIME_TOLERANCE = 1e-9  # relative mismatch of a step's start time accepted from a host
-
 # the native layer's buffer is a double per value reference (Integer values too, the layer converts
 # them): the outputs, and the record, each have consecutive value references, so one pack fills each
 _PACK_COMPUTED = struct.Struct(f"={len(COMPUTED)}d")
@@ -150,39 +144,7 @@ _PACK_RECORD = struct.Struct(f"={len(RECORD)}d")
 _ZERO_RECORD = (0.0,) * (NR * IMPACT_SLOTS) + (0,) * IMPACT_SLOTS
 _STATE_KEYS = frozenset([name for name, *_ in PARAMETERS]
                         + ["F", "a_g", "_t0", "_initialized", "_core", "_in_step", "_record", "_monitor"])
-LINK = "_native_link"  # hidden String variable (last value reference, not in modelDescription.xml)
-
-
-class Refusal(ValueError):
-    """A call the model refuses: the text names the variable, its value and what is allowed."""
-
-
-def _fmi_text(text, native):
-    """A message for the FMI logger.  pythonfmu's binary passes it as a printf format (FMI 2.0,
-    2.1.5), so a bare '%' would make the host read arguments that are not there (seen as a crash
-    in fmpy); the native layer passes it as an argument, so the text goes as it is."""
-    return text if native else text.replace("%", "%%")
-
-
-def _guarded(default):
-    """Run an FMI entry point so that no exception reaches pythonfmu: with the native layer the
-    error is logged at error level (the layer answers fmi2Error) and `default(args)` returned;
-    without it the exception propagates (pythonfmu answers fmi2Fatal)."""
-    def wrap(method):
-        def call(self, *args):
-            try:
-                return method(self, *args)
-            except Exception as err:
-                if not self._native:
-                    raise
-                self._report(err)
-                return default(args)
-        call.__name__, call.__doc__ = method.__name__, method.__doc__
-        return call
-    return wrap
-
-
-class PendulumImpactDamper(Fmi2Slave):
+class PendulumImpactDamper(FmiEntry, Fmi2Slave):
     """Pendulum-type particle impact damper, exact event-driven co-simulation."""
 
     author = "pidamper developers"
@@ -248,20 +210,8 @@ class PendulumImpactDamper(Fmi2Slave):
 
     # ---- the native layer's buffer ----------------------------------------------------
 
-    def _attach(self, text):
-        """The native layer hands over its buffer: 'address n_vars', a double per value reference
-        and one more slot, where the model leaves its id() (the layer then calls _native_step)."""
-        try:
-            address, count = text.split()
-            count = int(count)
-        except ValueError:
-            raise Refusal(f"{LINK} = {text!r} is not allowed: it is set by the FMU's native layer only")
-        if count != len(self.vars) - 1:
-            raise Refusal(f"{LINK}: the native layer has {count} variables, the model {len(self.vars) - 1} "
-                          "(binaries of another build)")
-        self._buffer = memoryview((ctypes.c_double * (count + 1)).from_address(int(address, 16))).cast("B")
-        struct.pack_into("=Q", self._buffer, 8 * count, id(self))
-        self._native = True
+    def _attached(self):
+        """The native layer's buffer is in place: the record and the building's zeros go in."""
         self._record_in_buffer = True
         self._clear_building()
 
@@ -352,59 +302,7 @@ class PendulumImpactDamper(Fmi2Slave):
         self._monitor = SmallAngleMonitor(params, limit) if limit > 0.0 and small_angles else None
         return core
 
-    def _fail(self, name, value, allowed):
-        """Refuse the call, naming the variable, its value and the rule."""
-        raise Refusal(f"{name} = {value!r} is not allowed: {allowed}")
-
-    def _report(self, err):
-        """Log a refused call at error level (the native layer then answers fmi2Error)."""
-        text = str(err) if isinstance(err, (Refusal, ParameterError)) else f"{type(err).__name__}: {err}"
-        self.log(_fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.error)
-
-    def _core_now(self):
-        if self._core is None:
-            try:
-                self._core = self._build_core()
-            except ParameterError as err:
-                self._fail(err.name, err.value, err.allowed)
-        return self._core
-
     # ---- FMI calls ------------------------------------------------------------------
-
-    _t0 = 0.0
-
-    @_guarded(lambda args: None)
-    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
-        if not math.isfinite(start_time):
-            self._fail("startTime", start_time, "it must be finite")
-        self._t0 = float(start_time)
-        self._core = None
-
-    @_guarded(lambda args: None)
-    def exit_initialization_mode(self):
-        self._core = None
-        self._core_now()
-        self._initialized = True
-
-    def do_step(self, current_time, step_size):
-        try:
-            self._step(current_time, step_size)
-        except Exception as err:
-            if not self._native:
-                raise
-            self._report(err)
-            return False
-        return True
-
-    def _native_step(self, current_time, step_size):
-        """fmi2DoStep called by the native layer directly: 0 done, 1 done with messages queued,
-        2 refused (its message queued)."""
-        try:
-            self._step(current_time, step_size)
-        except Exception as err:
-            self._report(err)
-            return 2
-        return 1 if self.log_queue else 0
 
     def _step(self, current_time, step_size):
         core = self._core
@@ -415,10 +313,7 @@ class PendulumImpactDamper(Fmi2Slave):
         total = current_time + step_size + force + ground
         if total - total != 0.0 or step_size < 0.0:  # some value is not finite (or a sum overflowed)
             self._check_step(current_time, step_size, force, ground)
-        lag = current_time - t
-        if (lag > 0.0 or lag < 0.0) and abs(lag) > _TIME_TOLERANCE * max(abs(t), step_size):
-            self._fail("currentCommunicationPoint", current_time,
-                       f"it must equal the FMU time {t!r} (relative tolerance {_TIME_TOLERANCE})")
+        self._check_time(current_time, t, step_size)
         if self._in_step:
             self._clear_record()
         core.advance(max(current_time + step_size, t), force, ground)
@@ -440,61 +335,18 @@ class PendulumImpactDamper(Fmi2Slave):
         if not math.isfinite(ground):
             self._fail("a_g", ground, "the input must be finite")
 
-    @_guarded(lambda args: None)
+    @guarded(lambda args: None)
     def terminate(self):
         summary = self._monitor.summary() if self._monitor is not None and self._initialized else None
         if summary:
             self._warn(summary)
 
     def _warn(self, text):
-        self.log(_fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.warning)
-
-    # ---- variable access: type-checked, one pass per call ---------------------------
-
-    def _values(self, vrs, kind):
-        out = []
-        variables = self.vars
-        for vr in vrs:
-            var = variables.get(vr)
-            if var is None or var.name == LINK:
-                raise Refusal(f"value reference {vr} is not allowed: no such variable")
-            if not isinstance(var, kind):
-                raise Refusal(f"{var.name} (value reference {vr}) is not allowed here: it is not a "
-                              f"{kind.__name__} variable")
-            out.append(var)
-        return out
-
-    @_guarded(lambda args: [math.nan] * len(args[0]))
-    def get_real(self, vrs):
-        return [float(var.getter()) for var in self._values(vrs, Real)]
-
-    @_guarded(lambda args: [0] * len(args[0]))
-    def get_integer(self, vrs):
-        return [int(var.getter()) for var in self._values(vrs, Integer)]
-
-    @_guarded(lambda args: None)
-    def set_real(self, vrs, values):
-        for var, value in zip(self._values(vrs, Real), values):
-            var.setter(value)
-
-    @_guarded(lambda args: None)
-    def set_integer(self, vrs, values):
-        for var, value in zip(self._values(vrs, Integer), values):
-            var.setter(value)
-
-    def set_string(self, vrs, values):
-        """Only the native layer sets a String (its link); a failure is logged, never raised."""
-        try:
-            for vr, value in zip(vrs, values):
-                if self.vars.get(vr) is None or self.vars[vr].name != LINK:
-                    raise Refusal(f"value reference {vr} is not allowed: the model has no String variable")
-                self._attach(value)
-        except Exception as err:
-            self._report(err)
+        self.log(fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.warning)
 
     # ---- FMU state ------------------------------------------------------------------
 
-    @_guarded(lambda args: None)
+    @guarded(lambda args: None)
     def _get_fmu_state(self):
         state = {name: getattr(self, name) for name, *_ in PARAMETERS}
         state["F"] = self.F
@@ -508,7 +360,7 @@ class PendulumImpactDamper(Fmi2Slave):
         state["_monitor"] = None if monitor is None else monitor.get_state()
         return state
 
-    @_guarded(lambda args: None)
+    @guarded(lambda args: None)
     def _set_fmu_state(self, state):
         """Restore a state _get_fmu_state wrote; one that does not come from this model is refused
         with a message naming the key, and the instance keeps the state it had."""
@@ -563,33 +415,7 @@ class PendulumImpactDamper(Fmi2Slave):
         root = super().to_xml(model_options)
         info = {name: (unit, lo, hi, desc) for name, _, _, unit, lo, hi, desc in PARAMETERS}
         info.update({name: (unit, None, None, desc) for name, _, unit, desc, *_ in COMPUTED + RECORD})
-        info["F"] = ("N", None, None, "horizontal force on the primary mass")
+        info["F"] = ("N", None, None, "horizontal force on the primary mass (storeys >= 1: on the damper floor)")
         info["a_g"] = ("m/s2", None, None, "ground acceleration of a base excitation (acts on both bodies)")
-        variables = root.find("ModelVariables")
-        for sv in list(variables):
-            if sv.get("name") == LINK:
-                variables.remove(sv)
-        index = {}
-        for i, sv in enumerate(variables, start=1):
-            name = sv.get("name")
-            index[name] = i
-            unit, lo, hi, desc = info[name]
-            sv.set("description", desc)
-            typed = sv[0]
-            for key, val in (("unit", unit), ("min", lo), ("max", hi)):
-                if val is not None:
-                    typed.set(key, val if key == "unit" else repr(val))
-        units = Element("UnitDefinitions")
-        for name, dims in _UNITS.items():
-            SubElement(SubElement(units, "Unit", name=name), "BaseUnit", {k: str(v) for k, v in dims.items()})
-        root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
-        structure = root.find("ModelStructure")
-        for child in list(structure):
-            structure.remove(child)
-        outputs = SubElement(structure, "Outputs")
-        initial = SubElement(structure, "InitialUnknowns")
-        for name, _, _, _, feedthrough in OUTPUTS + BUILDING:
-            deps = f"{index['F']} {index['a_g']}" if feedthrough else ""
-            SubElement(outputs, "Unknown", index=str(index[name]), dependencies=deps)
-            SubElement(initial, "Unknown", index=str(index[name]))
-        return root
+        outputs = [(name, ("F", "a_g") if feedthrough else ()) for name, _, _, _, feedthrough in OUTPUTS + BUILDING]
+        return describe(root, info, outputs)

@@ -33,10 +33,11 @@ DEFAULTS = {"g": 9.81, "M": 1.0, "mu": 0.1, "L2": 1.0, "FR": 5.0, "d": 0.1, "d_a
             "contact_form": DISPLACEMENT, "F0": 0.0, "Omega": math.sqrt(9.81 / 1.0), "phi": 0.0, "fidelity": LINEAR,
             "zeta_s": 0.0, "zeta_p": 0.0, "storeys": 0, "damper_floor": 0}
 #: most storeys of a building (storeys >= 1); default floor masses [kg] and storey stiffnesses
-#: [N/m]: a uniform building whose first period is about 0.1 s per storey (0.32 s at 3, 0.94 s at 10)
+#: [N/m] (of the FMUs with a building): a uniform building whose first period is about 0.16 s per
+#: storey (0.50 s at 3, 1.5 s at 10)
 MAX_STOREYS = 10
 FLOOR_MASS = 1.0e5
-STOREY_STIFFNESS = 2.0e8
+STOREY_STIFFNESS = 8.0e7
 #: default initial state [rad, rad/s]: particle at rest, primary started by a velocity
 INITIAL_DEFAULTS = {"theta_0": 0.0, "theta_dot_0": 0.5, "alpha_0": 0.0, "alpha_dot_0": 0.0}
 
@@ -141,12 +142,7 @@ class Params:
         """Derived quantities of a building (storeys >= 1): the ShearBuilding, the particle's m, w1,
         L1, and M = the damper floor's mass (the force F acts on that floor)."""
         n = self.storeys
-        lo, hi = SCALE_RANGE
-        for name, values in (("floor[{}].m", self.floor_m), ("storey[{}].k", self.storey_k)):
-            for k, value in enumerate(values[:n], start=1):
-                if not lo <= check_finite(name.format(k), value) <= hi:
-                    raise ParameterError(name.format(k), value, f"it must lie in {lo:g} to {hi:g} (> 0)")
-        self.building = ShearBuilding(self.floor_m[:n], self.storey_k[:n], self.zeta_s)
+        self.building = check_building(self.floor_m[:n], self.storey_k[:n], self.zeta_s)
         self.floor = (self.damper_floor or n) - 1  # index of the damper floor
         self.M = self.building.masses[self.floor]
         self.m = self.mu * self.building.total_mass
@@ -169,6 +165,24 @@ class Params:
                 default = FLOOR_MASS if key == "floor_m" else STOREY_STIFFNESS
                 kwargs[key] = [default if v is None else v for v in listed]
         return cls(**kwargs)
+
+
+def check_building(masses, stiffnesses, zeta=0.0):
+    """The ShearBuilding of floor masses [kg] and storey stiffnesses [N/m] (floor / storey 1 first)
+    with every mode at damping ratio zeta, once they are checked: a ParameterError names the value
+    (storeys, floor[k].m, storey[k].k, zeta_s) and the rule."""
+    n = len(masses)
+    if not 1 <= n <= MAX_STOREYS or len(stiffnesses) != n:
+        raise ParameterError("storeys", n, f"it must lie in 1..{MAX_STOREYS}, with a mass and a stiffness per storey")
+    lo, hi = SCALE_RANGE
+    for pattern, values in (("floor[{}].m", masses), ("storey[{}].k", stiffnesses)):
+        for k, value in enumerate(values, start=1):
+            if not lo <= check_finite(pattern.format(k), value) <= hi:
+                raise ParameterError(pattern.format(k), value, f"it must lie in {lo:g} to {hi:g} (> 0)")
+    zeta = check_finite("zeta_s", zeta)
+    if not 0.0 <= zeta < 1.0 or 1.0 - zeta * zeta < ZETA_GAP:
+        raise ParameterError("zeta_s", zeta, f"it must lie in [0, 1) with 1 - zeta_s^2 >= {ZETA_GAP:g}")
+    return ShearBuilding(masses, stiffnesses, zeta)
 
 
 def _per_storey(name, values, default):

@@ -20,28 +20,10 @@ derived from it.  Plain Python (math): this ships inside the FMU.
 import math
 
 from .building import ShearBuilding
-from .params import SCALE_RANGE, ZETA_GAP, ParameterError, check_finite
+from .params import ParameterError, check_building, check_finite
 
-#: most storeys of the ShearBuilding FMU
-MAX_STOREYS = 10
-
-
-def make_building(masses, stiffnesses, zeta=0.0):
-    """A ShearBuilding of floor masses [kg] and storey stiffnesses [N/m] (floor / storey 1 first)
-    with every mode at damping ratio zeta, after checking them: a ParameterError names the value
-    (floor[k].m, storey[k].k, zeta_s) and the rule."""
-    n = len(masses)
-    if not 1 <= n <= MAX_STOREYS or len(stiffnesses) != n:
-        raise ParameterError("storeys", n, f"it must lie in 1..{MAX_STOREYS}, with a mass and a stiffness per storey")
-    lo, hi = SCALE_RANGE
-    for pattern, values in (("floor[{}].m", masses), ("storey[{}].k", stiffnesses)):
-        for k, value in enumerate(values, start=1):
-            if not lo <= check_finite(pattern.format(k), value) <= hi:
-                raise ParameterError(pattern.format(k), value, f"it must lie in {lo:g} to {hi:g} (> 0)")
-    zeta = check_finite("zeta_s", zeta)
-    if not 0.0 <= zeta < 1.0 or 1.0 - zeta * zeta < ZETA_GAP:
-        raise ParameterError("zeta_s", zeta, "it must lie in [0, 1) (every mode underdamped)")
-    return ShearBuilding(masses, stiffnesses, zeta)
+#: the building of floor masses and storey stiffnesses, checked (params.check_building)
+make_building = check_building
 
 
 def sdof(w, zeta, q0, v0, p, tau):

@@ -1,0 +1,226 @@
+"""What every pidamper FMU adapter shares (PendulumImpactDamper, PendulumImpactDamperUnit,
+ShearBuilding): refusals through the FMI logger, the native layer's link, type-checked variable
+access and the FMI entry points around the model's own `_step` and `_build_core`.
+
+- Bad input is refused with `<instance>: <name> = <value> is not allowed: <rule>` at error level;
+  with the native layer (fmi2_entry.c) no exception reaches pythonfmu (the layer answers
+  fmi2Error); without it the exception propagates (pythonfmu answers fmi2Fatal).
+- The native layer hands over its buffer through the hidden String variable LINK (the last value
+  reference, left out of modelDescription.xml); the model writes its outputs there after each step
+  and the layer answers reads without entering Python.
+"""
+import ctypes
+import math
+import struct
+from xml.etree.ElementTree import Element, SubElement
+
+from pythonfmu import Integer, Real
+from pythonfmu.enums import Fmi2Status
+
+from pidamper_physics import ParameterError
+
+UNITS = {"s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "m": {"m": 1}, "m/s2": {"m": 1, "s": -2}, "kg": {"kg": 1}, "1": {},
+         "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "N": {"kg": 1, "m": 1, "s": -2},
+         "J": {"kg": 1, "m": 2, "s": -2}, "N/m": {"kg": 1, "s": -2}, "N.s": {"kg": 1, "m": 1, "s": -1}}
+
+TIME_TOLERANCE = 1e-9  # relative mismatch of a step's start time accepted from a host
+
+LINK = "_native_link"  # hidden String variable (last value reference, not in modelDescription.xml)
+
+
+class Refusal(ValueError):
+    """A call the model refuses: the text names the variable, its value and what is allowed."""
+
+
+def fmi_text(text, native):
+    """A message for the FMI logger.  pythonfmu's binary passes it as a printf format (FMI 2.0,
+    2.1.5), so a bare '%' would make the host read arguments that are not there (seen as a crash
+    in fmpy); the native layer passes it as an argument, so the text goes as it is."""
+    return text if native else text.replace("%", "%%")
+
+
+def guarded(default):
+    """Run an FMI entry point so that no exception reaches pythonfmu: with the native layer the
+    error is logged at error level (the layer answers fmi2Error) and `default(args)` returned;
+    without it the exception propagates (pythonfmu answers fmi2Fatal)."""
+    def wrap(method):
+        def call(self, *args):
+            try:
+                return method(self, *args)
+            except Exception as err:
+                if not self._native:
+                    raise
+                self._report(err)
+                return default(args)
+        call.__name__, call.__doc__ = method.__name__, method.__doc__
+        return call
+    return wrap
+
+
+def describe(root, info, outputs):
+    """Complete pythonfmu's modelDescription `root`: each variable's (unit, min, max, description)
+    from `info` by name, the UnitDefinitions it uses, and a ModelStructure listing `outputs`
+    ((name, names of the inputs it depends on directly), in value-reference order); the native
+    layer's LINK is left out (hosts never see it)."""
+    variables = root.find("ModelVariables")
+    for sv in list(variables):
+        if sv.get("name") == LINK:
+            variables.remove(sv)
+    index = {}
+    used = set()
+    for i, sv in enumerate(variables, start=1):
+        name = sv.get("name")
+        index[name] = i
+        unit, lo, hi, desc = info[name]
+        sv.set("description", desc)
+        typed = sv[0]
+        for key, val in (("unit", unit), ("min", lo), ("max", hi)):
+            if val is not None:
+                typed.set(key, val if key == "unit" else repr(val))
+        used.add(unit)
+    units = Element("UnitDefinitions")
+    for name, dims in UNITS.items():
+        if name in used:
+            SubElement(SubElement(units, "Unit", name=name), "BaseUnit", {k: str(v) for k, v in dims.items()})
+    root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
+    structure = root.find("ModelStructure")
+    for child in list(structure):
+        structure.remove(child)
+    listed, initial = SubElement(structure, "Outputs"), SubElement(structure, "InitialUnknowns")
+    for name, inputs in outputs:
+        SubElement(listed, "Unknown", index=str(index[name]), dependencies=" ".join(str(index[d]) for d in inputs))
+        SubElement(initial, "Unknown", index=str(index[name]))
+    return root
+
+
+class FmiEntry:
+    """Mixin (before Fmi2Slave) of the FMI entry points every adapter shares.  The model keeps
+    `_core`, `_initialized`, `_native`, `_t0` and provides `_build_core()` and `_step(t, h)`;
+    `_attached()` runs once the native layer's buffer is in place."""
+
+    _t0 = 0.0
+
+    # ---- refusals ---------------------------------------------------------------------
+
+    def _fail(self, name, value, allowed):
+        """Refuse the call, naming the variable, its value and the rule."""
+        raise Refusal(f"{name} = {value!r} is not allowed: {allowed}")
+
+    def _report(self, err):
+        """Log a refused call at error level (the native layer then answers fmi2Error)."""
+        text = str(err) if isinstance(err, (Refusal, ParameterError)) else f"{type(err).__name__}: {err}"
+        self.log(fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.error)
+
+    def _core_now(self):
+        if self._core is None:
+            try:
+                self._core = self._build_core()
+            except ParameterError as err:
+                self._fail(err.name, err.value, err.allowed)
+        return self._core
+
+    # ---- the native layer's buffer --------------------------------------------------------
+
+    def _attach(self, text):
+        """The native layer hands over its buffer: 'address n_vars', a double per value reference
+        and one more slot, where the model leaves its id() (the layer then calls _native_step)."""
+        try:
+            address, count = text.split()
+            count = int(count)
+        except ValueError:
+            raise Refusal(f"{LINK} = {text!r} is not allowed: it is set by the FMU's native layer only")
+        if count != len(self.vars) - 1:
+            raise Refusal(f"{LINK}: the native layer has {count} variables, the model {len(self.vars) - 1} "
+                          "(binaries of another build)")
+        self._buffer = memoryview((ctypes.c_double * (count + 1)).from_address(int(address, 16))).cast("B")
+        struct.pack_into("=Q", self._buffer, 8 * count, id(self))
+        self._native = True
+        self._attached()
+
+    def _attached(self):
+        pass
+
+    # ---- FMI calls --------------------------------------------------------------------
+
+    @guarded(lambda args: None)
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        if not math.isfinite(start_time):
+            self._fail("startTime", start_time, "it must be finite")
+        self._t0 = float(start_time)
+        self._core = None
+
+    @guarded(lambda args: None)
+    def exit_initialization_mode(self):
+        self._core = None
+        self._core_now()
+        self._initialized = True
+
+    def do_step(self, current_time, step_size):
+        try:
+            self._step(current_time, step_size)
+        except Exception as err:
+            if not self._native:
+                raise
+            self._report(err)
+            return False
+        return True
+
+    def _native_step(self, current_time, step_size):
+        """fmi2DoStep called by the native layer directly: 0 done, 1 done with messages queued,
+        2 refused (its message queued)."""
+        try:
+            self._step(current_time, step_size)
+        except Exception as err:
+            self._report(err)
+            return 2
+        return 1 if self.log_queue else 0
+
+    def _check_time(self, current_time, t, step_size):
+        """Refuse a step that does not start at the FMU's time t (to TIME_TOLERANCE)."""
+        lag = current_time - t
+        if (lag > 0.0 or lag < 0.0) and abs(lag) > TIME_TOLERANCE * max(abs(t), step_size):
+            self._fail("currentCommunicationPoint", current_time,
+                       f"it must equal the FMU time {t!r} (relative tolerance {TIME_TOLERANCE})")
+
+    # ---- variable access: type-checked, one pass per call -----------------------------
+
+    def _checked(self, vrs, kind):
+        out = []
+        variables = self.vars
+        for vr in vrs:
+            var = variables.get(vr)
+            if var is None or var.name == LINK:
+                raise Refusal(f"value reference {vr} is not allowed: no such variable")
+            if not isinstance(var, kind):
+                raise Refusal(f"{var.name} (value reference {vr}) is not allowed here: it is not a "
+                              f"{kind.__name__} variable")
+            out.append(var)
+        return out
+
+    @guarded(lambda args: [math.nan] * len(args[0]))
+    def get_real(self, vrs):
+        return [float(var.getter()) for var in self._checked(vrs, Real)]
+
+    @guarded(lambda args: [0] * len(args[0]))
+    def get_integer(self, vrs):
+        return [int(var.getter()) for var in self._checked(vrs, Integer)]
+
+    @guarded(lambda args: None)
+    def set_real(self, vrs, values):
+        for var, value in zip(self._checked(vrs, Real), values):
+            var.setter(value)
+
+    @guarded(lambda args: None)
+    def set_integer(self, vrs, values):
+        for var, value in zip(self._checked(vrs, Integer), values):
+            var.setter(value)
+
+    def set_string(self, vrs, values):
+        """Only the native layer sets a String (its link); a failure is logged, never raised."""
+        try:
+            for vr, value in zip(vrs, values):
+                if self.vars.get(vr) is None or self.vars[vr].name != LINK:
+                    raise Refusal(f"value reference {vr} is not allowed: the model has no String variable")
+                self._attach(value)
+        except Exception as err:
+            self._report(err)
