@@ -12,7 +12,8 @@ from rerun.chunk import RrdReader
 
 from pidamper import scene
 from pidamper.cli import main
-from pidamper.mcap_log import read_run
+from pidamper.logged_run import replay
+from pidamper.mcap_log import read_floors, read_run
 from pidamper.scene import SceneError
 
 os.environ.setdefault("RERUN_ANALYTICS", "0")
@@ -228,3 +229,19 @@ def test_building_scenes_with_and_without_the_damper(ran, n):
     assert bare["impacts"][-1] == 0 and bare["energy_dissipated"][-1] == 0
     states = read_run(ran / f"building-{n}.mcap")[1]
     assert len(states) == len(damped) and states[-1]["impacts"] == damped["impacts"][-1]
+    floors = read_floors(ran / f"building-{n}.mcap")  # every floor in the MCAP and the .rrd
+    assert floors["x"].shape == (len(damped), n) and np.array_equal(floors["time"], damped["time"])
+    for k in range(1, n + 1):
+        assert np.array_equal(floors["x"][:, k - 1], damped[f"floor[{k}].x"])
+        assert np.array_equal(floors["drift"][:, k - 1], damped[f"storey[{k}].drift"])
+    assert np.array_equal(floors["base_shear"], damped["base_shear"])
+    assert rrd_entities(ran / f"building-{n}.rrd")[f"plots/floors/floor_{n}"] == len(damped)
+    assert read_floors(ran / "default.mcap") is None  # no building, no floors topic
+
+
+def test_building_replay_carries_the_floors(ran, tmp_path):
+    out = tmp_path / "replay.rrd"
+    replay(ran / "building-3.mcap", out)
+    live, again = rrd_entities(ran / "building-3.rrd"), rrd_entities(out)
+    assert {e: c for e, c in again.items() if e.startswith("plots/floors")} == \
+        {e: c for e, c in live.items() if e.startswith("plots/floors")} != {}

@@ -16,8 +16,8 @@ import numpy as np
 from . import rerun_log
 from .fmu import find_fmu
 from .forcing import none
-from .mcap_log import McapLog, read_run
-from .records import IMPACT_DTYPE, STATE_DTYPE, STATE_FIELDS, geometry, run_info
+from .mcap_log import McapLog, read_floors, read_run
+from .records import IMPACT_DTYPE, STATE_DTYPE, STATE_FIELDS, floor_columns, floors_dtype, geometry, run_info
 from .simulation import FmuError, run
 
 IMPACT_SLOTS = 16
@@ -46,11 +46,12 @@ class Sinks:
             self.rec = rerun_log.open_recording(info, rrd_path, serve, connect)
             rerun_log.log_start(self.rec, info)
 
-    def write(self, states, impacts):
+    def write(self, states, impacts, floors=None):
+        """A block of states and impacts, and of a building's floors (floors_dtype) if any."""
         if self.mcap:
-            self.mcap.write(states, impacts)
+            self.mcap.write(states, impacts, floors)
         if self.rec:
-            rerun_log.log_block(self.rec, self.info, states, impacts)
+            rerun_log.log_block(self.rec, self.info, states, impacts, floors)
 
     def note(self, t, level, text):
         if self.mcap:
@@ -78,7 +79,8 @@ class Collector:
     def __init__(self, sinks, forcing, start_time, block):
         self.sinks, self.forcing, self.block = sinks, forcing, block
         self.done = 0  # recorder rows already taken
-        self.states, self.impacts = [], []
+        self.states, self.impacts, self.floors = [], [], []
+        self.floor_cols = []  # recorder columns of a building's floors (none without one)
         self.last_t = self.held_from = start_time
         self.recorded = self.unrecorded = 0
         self.vr = None
@@ -90,6 +92,8 @@ class Collector:
         columns, states = self.columns, self.states
         for row in rows[self.done:]:
             states.append(tuple(row[i] for i in columns))
+        if self.floor_cols:
+            self.floors.extend([row[0]] + [row[i] for i in self.floor_cols] for row in rows[self.done:])
         self.done = len(rows)
         last = rows[-1]
         n = last[self.col_in_step]
@@ -107,6 +111,8 @@ class Collector:
         self.columns = [names.index(f) for f in STATE_FIELDS if f not in INPUTS]
         self.col_in_step = names.index("impacts_in_step")
         self.col_impacts = names.index("impacts")
+        self.storeys = storeys = sum(1 for n in names if n.startswith("floor[") and n.endswith("].x"))
+        self.floor_cols = [names.index(n) for n in floor_columns(storeys)] if storeys else []
         self.vr_reals = [[vr[f"impact[{k + 1}].{f}"] for f in _SLOT_REALS] for k in range(IMPACT_SLOTS)]
         self.vr_sides = [vr[f"impact[{k + 1}].side"] for k in range(IMPACT_SLOTS)]
         self.vr = vr
@@ -138,8 +144,16 @@ class Collector:
             held_from = np.concatenate([[self.held_from], states["time"][:-1]])
             states[self.forcing.target] = self.forcing.value(held_from)
             self.held_from = states["time"][-1]
-        self.sinks.write(states, np.array(self.impacts, dtype=IMPACT_DTYPE))
-        self.states, self.impacts = [], []
+        floors = None
+        if self.floor_cols:
+            n = self.storeys
+            table = np.array(self.floors, dtype=np.float64).reshape(-1, 3 * n + 2)
+            floors = np.zeros(len(table), dtype=floors_dtype(n))
+            floors["time"], floors["base_shear"] = table[:, 0], table[:, -1]
+            for j, name in enumerate(("x", "a", "drift")):
+                floors[name] = table[:, 1 + j * n:1 + (j + 1) * n]
+        self.sinks.write(states, np.array(self.impacts, dtype=IMPACT_DTYPE), floors)
+        self.states, self.impacts, self.floors = [], [], []
 
 
 class _CtrlC:
@@ -218,6 +232,7 @@ def replay(mcap_path, rrd_path=None, serve=False, connect=None):
     same blocks (states in runs of the live run's block size, each with the impacts up to its
     last time) and notes, through the same logging function."""
     info, states, impacts, notes = read_run(mcap_path)
+    floors = read_floors(mcap_path)
     block = info.get("log_block", 1000)
     sinks = Sinks(info, None, rrd_path, serve, connect)
     notes = sorted(notes, key=lambda note: note[0])
@@ -229,7 +244,7 @@ def replay(mcap_path, rrd_path=None, serve=False, connect=None):
             sinks.note(*notes[n_note])
             n_note += 1
         k = j + int(np.searchsorted(impacts["t"][j:], t_last, side="right"))
-        sinks.write(chunk, impacts[j:k])
+        sinks.write(chunk, impacts[j:k], None if floors is None else floors[start:start + block])
         j = k
     if j < len(impacts):
         sinks.write(states[:0], impacts[j:])

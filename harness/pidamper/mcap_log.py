@@ -3,6 +3,8 @@
 Topics (titled JSON schemas, plotted by Foxglove as they are):
 - /damper/state     one message per communication point (STATE_FIELDS)
 - /damper/impacts   one message per recorded impact (IMPACT_FIELDS)
+- /building/floors  a building's run (storeys >= 1): one message per communication point, arrays x,
+                    a, drift (floor / storey 1 first) and base_shear (records.floors_dtype)
 - /run/info         the run metadata once (also the MCAP metadata record "pidamper.run")
 - /run/notes        run start, end, failure, impacts not recorded individually
 - /log              foxglove.Log: the impacts and notes as log lines
@@ -21,10 +23,11 @@ from foxglove.messages import (Color, CubePrimitive, FrameTransform, FrameTransf
 from mcap.stream_reader import StreamReader
 from mcap.records import Channel, Message, Metadata
 
-from .records import IMPACT_DTYPE, IMPACT_FIELDS, STATE_DTYPE, STATE_FIELDS, frames, stop_height, to_ns
+from .records import (IMPACT_DTYPE, IMPACT_FIELDS, STATE_DTYPE, STATE_FIELDS, floors_dtype, frames, stop_height,
+                      to_ns)
 
 METADATA_NAME = "pidamper.run"
-TOPICS = ("/damper/state", "/damper/impacts", "/run/info", "/run/notes", "/log", "/tf", "/scene")
+TOPICS = ("/damper/state", "/damper/impacts", "/building/floors", "/run/info", "/run/notes", "/log", "/tf", "/scene")
 CHUNK_SIZE = 256 * 1024  # bytes before compression: a killed run loses at most one chunk
 
 _INT = {"contact", "impacts", "side", "index"}
@@ -45,6 +48,12 @@ STATE_SCHEMA = _schema("pidamper.DamperState", STATE_FIELDS, {
 IMPACT_SCHEMA = _schema("pidamper.Impact", IMPACT_FIELDS, {
     "t": "s", "side": "+1 or -1", "v_rel_before": "m/s, particle minus primary", "v_rel_after": "m/s",
     "energy_lost": "J", "theta": "rad, primary angle at the impact", "index": "1-based impact number"})
+FLOORS_SCHEMA = {"title": "pidamper.BuildingFloors", "type": "object", "properties": {
+    "time": {"type": "number", "description": "s"},
+    "x": {"type": "array", "items": {"type": "number"}, "description": "m, floor displacements relative to the ground"},
+    "a": {"type": "array", "items": {"type": "number"}, "description": "m/s2, floor absolute accelerations"},
+    "drift": {"type": "array", "items": {"type": "number"}, "description": "m, storey drifts"},
+    "base_shear": {"type": "number", "description": "N, force of the building on the ground"}}}
 NOTE_SCHEMA = {"title": "pidamper.Note", "type": "object",
                "properties": {"time": {"type": "number"}, "level": {"type": "string"}, "text": {"type": "string"}}}
 INFO_SCHEMA = {"title": "pidamper.RunInfo", "type": "object"}
@@ -80,6 +89,7 @@ class McapLog:
         self.state = foxglove.Channel("/damper/state", schema=STATE_SCHEMA, context=context)
         self.impacts = foxglove.Channel("/damper/impacts", schema=IMPACT_SCHEMA, context=context)
         self.notes = foxglove.Channel("/run/notes", schema=NOTE_SCHEMA, context=context)
+        self.floors = None  # opened with a building's first floor block
         self.log = LogChannel("/log", context=context)
         self.tf = FrameTransformsChannel("/tf", context=context)
         t0 = int(to_ns(info["start_time"]))
@@ -90,10 +100,18 @@ class McapLog:
         if "/scene" in self.topics:
             self.static[1].log(self._scene(t0), log_time=t0)
 
-    def write(self, states, impacts):
-        """Append a block of states (STATE_DTYPE) and impacts (IMPACT_DTYPE)."""
+    def write(self, states, impacts, floors=None):
+        """Append a block of states (STATE_DTYPE) and impacts (IMPACT_DTYPE), and of a building's
+        floors (records.floors_dtype) if any."""
         times = to_ns(states["time"]).tolist()
         topics = self.topics
+        if floors is not None and "/building/floors" in topics:
+            if self.floors is None:
+                self.floors = foxglove.Channel("/building/floors", schema=FLOORS_SCHEMA, context=self.context)
+            for row in floors:
+                self.floors.log(json.dumps({"time": float(row["time"]), "x": row["x"].tolist(), "a": row["a"].tolist(),
+                                            "drift": row["drift"].tolist(), "base_shear": float(row["base_shear"])}),
+                                log_time=int(to_ns(row["time"])))
         if "/damper/state" in topics:
             for ns, payload in zip(times, _json_rows(states, STATE_FIELDS)):
                 self.state.log(payload, log_time=ns)
@@ -196,6 +214,26 @@ def read_run(path):
     if info is None:
         raise ValueError(f"{path}: not a pidamper run (no '{METADATA_NAME}' metadata record)")
     return info, _to_array(states, STATE_DTYPE), _to_array(impacts, IMPACT_DTYPE), notes
+
+
+def read_floors(path):
+    """A building run's floors (records.floors_dtype) from its MCAP, or None (no building)."""
+    rows, floors_channel = [], None
+    with open(path, "rb") as handle:
+        try:
+            for record in StreamReader(handle).records:
+                if isinstance(record, Channel) and record.topic == "/building/floors":
+                    floors_channel = record.id
+                elif isinstance(record, Message) and record.channel_id == floors_channel:
+                    rows.append(json.loads(record.data))
+        except Exception:  # a truncated file: keep what was complete
+            pass
+    if not rows:
+        return None
+    out = np.zeros(len(rows), dtype=floors_dtype(len(rows[0]["x"])))
+    for name in out.dtype.names:
+        out[name] = [row[name] for row in rows]
+    return out
 
 
 def _to_array(rows, dtype):

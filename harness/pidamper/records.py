@@ -19,6 +19,19 @@ STATE_DTYPE = np.dtype([(n, np.int64 if n in ("contact", "impacts") else np.floa
 IMPACT_FIELDS = ("t", "side", "v_rel_before", "v_rel_after", "energy_lost", "theta", "index")
 IMPACT_DTYPE = np.dtype([(n, np.int64 if n in ("side", "index") else np.float64) for n in IMPACT_FIELDS])
 
+def floors_dtype(storeys):
+    """A building run's floor block (storeys >= 1): time [s], floor displacements x [m] and absolute
+    accelerations a [m/s2], storey drifts [m] (floor / storey 1 first) and the base shear [N]."""
+    return np.dtype([("time", np.float64), ("x", np.float64, (storeys,)), ("a", np.float64, (storeys,)),
+                     ("drift", np.float64, (storeys,)), ("base_shear", np.float64)])
+
+
+def floor_columns(storeys):
+    """The FMU outputs a floor block is made of, in floors_dtype's order."""
+    return tuple(f"{kind}[{k}].{field}" for kind, field in (("floor", "x"), ("floor", "a"), ("storey", "drift"))
+                 for k in range(1, storeys + 1)) + ("base_shear",)
+
+
 PACKAGES = ("pidamper", "pythonfmu", "fmpy", "numpy", "mcap", "foxglove-sdk", "rerun-sdk")
 
 
@@ -74,6 +87,12 @@ def parameters(fmu_path, start_values):
 def geometry(start_values):
     """What the 3D drawing needs: lengths L2, L1 [m], the clearance as a distance [m], w2
     [rad/s] and the fidelity level (from coupled on the particle hangs from the primary's bob)."""
+    if int(start_values.get("storeys", 0)):  # a building: drawn as the pendulums of its theta and alpha
+        from pidamper_physics import Params
+
+        integers = ("storeys", "damper_floor", "fidelity", "contact_form")  # the run info holds floats
+        p = Params.from_variables({k: int(v) if k in integers else v for k, v in start_values.items()})
+        return {"L2": p.L2, "L1": p.L1, "clearance": p.d, "w2": p.w2, "fidelity": 2, "storeys": p.storeys}
     g = float(start_values.get("g", 9.81))
     L2 = float(start_values.get("L2", 1.0))
     FR = float(start_values.get("FR", 5.0))

@@ -33,7 +33,7 @@ SERIES = (  # entity, state field, colour
 MARKERS = "plots/angles/impacts"
 
 
-VIEWS = ("angles", "velocities", "energy", "force", "pendulum", "events")
+VIEWS = ("angles", "velocities", "energy", "force", "floors", "pendulum", "events")
 
 
 def wanted(info):
@@ -58,7 +58,9 @@ def blueprint(geometry, views=VIEWS):
         ("angles", rrb.TimeSeriesView(origin="plots/angles", name="angles [rad] (dots: impacts)")),
         ("velocities", rrb.TimeSeriesView(origin="plots/velocities", name="angular velocities [rad/s]")),
         ("energy", rrb.TimeSeriesView(origin="plots/energy", name="energy [J]")),
-        ("force", rrb.TimeSeriesView(origin="plots/force", name="inputs: F [N], a_g [m/s2]"))) if name in views]
+        ("force", rrb.TimeSeriesView(origin="plots/force", name="inputs: F [N], a_g [m/s2]")),
+        ("floors", rrb.TimeSeriesView(origin="plots/floors", name="floor displacements [m]"))) if name in views
+        and (name != "floors" or geometry.get("storeys"))]
     right = [view for name, view in (
         ("pendulum", rrb.Spatial3DView(origin="pendulum", name="pendulums and stops (front view)", eye_controls=eye)),
         ("events", rrb.TextLogView(origin="events", name="events"))) if name in views]
@@ -110,9 +112,15 @@ def log_start(rec, info):
     rec.log("pendulum/particle/bob", rr.Points3D([[0, 0, -L1]], radii=[0.02], colors=[(240, 170, 20)]), static=True)
 
 
-def log_block(rec, info, states, impacts):
-    """Log a block of states and impacts in columns (one call per entity, not per sample)."""
+def log_block(rec, info, states, impacts, floors=None):
+    """Log a block of states and impacts, and of a building's floors if any, in columns (one call
+    per entity, not per sample)."""
     views = wanted(info)
+    if floors is not None and len(floors) and "floors" in views:
+        times = [rr.TimeColumn(TIMELINE, duration=to_ns(floors["time"]).astype("timedelta64[ns]"))]
+        for k in range(floors["x"].shape[1]):
+            rec.send_columns(f"plots/floors/floor_{k + 1}", indexes=times,
+                             columns=rr.Scalars.columns(scalars=floors["x"][:, k]))
     if len(states):
         times = [rr.TimeColumn(TIMELINE, duration=to_ns(states["time"]).astype("timedelta64[ns]"))]
         for entity, field, _ in series(views):

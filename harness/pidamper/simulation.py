@@ -18,6 +18,7 @@ from fmpy.fmi1 import FMICallException
 from pidamper_physics import Params
 
 from .fmu import find_fmu
+from .records import floor_columns
 from .forcing import Forcing, none
 
 OUTPUTS = ("theta", "theta_dot", "alpha", "alpha_dot", "x", "y", "z", "a", "impacts", "contact",
@@ -87,8 +88,7 @@ def resonance(parameters):
 def building_outputs(parameters):
     """The building's outputs a run records beside OUTPUTS (none with storeys = 0)."""
     n = int(parameters.get("storeys", 0))
-    return tuple(f"{kind}[{k}].{field}" for kind, field in (("floor", "x"), ("floor", "a"), ("storey", "drift"))
-                 for k in range(1, n + 1)) + (("base_shear",) if n else ())
+    return floor_columns(n) if n else ()
 
 
 def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu=None, start_time=0.0,

@@ -217,10 +217,16 @@ top-floor displacement a little and raises the 10-storey's, whose record excites
 the tuned pair.
 """
 
-FOOTER = """## Not here
+FOOTER = """## Logs
 
-Large angles and the nonlinear level on a building; floors in the MCAP and Rerun logs (a run's CSV
-and the FMU's outputs carry them)."""
+A building run's MCAP has the topic `/building/floors` (arrays `x`, `a`, `drift` and `base_shear`
+per communication point; Foxglove plots `/building/floors.x[0]` and so on), its `.rrd` the view
+`floors` (`plots/floors/floor_k`), and the replay of the MCAP carries them; the CSV has every
+building output by name.
+
+## Not here
+
+Large angles and the nonlinear level on a building."""
 
 
 def main(argv=None):
