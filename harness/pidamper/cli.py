@@ -212,6 +212,15 @@ def _paper(rest):
     return paper_main(rest)
 
 
+def _assess(rest):
+    from .assess import StudyError, main as assess_main
+    try:
+        return assess_main(rest)
+    except (StudyError, FileNotFoundError) as err:
+        print(f"pidamper assess: error: {err}", file=sys.stderr)
+        return 2
+
+
 def _study(rest):
     from .study import main as study_main
     return study_main(rest)
@@ -270,9 +279,10 @@ def main(argv=None):
     sub.add_parser("study", help="parametric study over a grid (pidamper study --help)")
     sub.add_parser("paper", help="regenerate the paper's figures for both readings (pidamper paper --help)")
     sub.add_parser("cosim", help="the damper unit FMU on the ShearBuilding FMU, co-simulated (pidamper cosim --help)")
+    sub.add_parser("assess", help="performance-based assessment: suite, stripes, fragility, risk (pidamper assess --help)")
 
     argv = sys.argv[1:] if argv is None else list(argv)
-    own = {"bench": _bench, "stress": _stress, "study": _study, "paper": _paper, "cosim": _cosim}
+    own = {"bench": _bench, "stress": _stress, "study": _study, "paper": _paper, "cosim": _cosim, "assess": _assess}
     if argv and argv[0] in own:  # their own parsers take the rest
         return own[argv[0]](argv[1:])
     args = parser.parse_args(argv)

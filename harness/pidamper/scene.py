@@ -86,13 +86,7 @@ class Scene:
         """FMU start values: the parameters (a building's floor_m and storey_k spread over the
         floor[k].m and storey[k].k variables) and the fidelity level's index."""
         level = self.run.get("fidelity", "linear")
-        values = {k: v for k, v in self.parameters.items() if k not in PER_STOREY}
-        for key, pattern in PER_STOREY.items():
-            given = self.parameters.get(key)
-            if given is not None:
-                listed = given if isinstance(given, list) else [given] * MAX_STOREYS
-                values.update({pattern.format(k): float(v) for k, v in enumerate(listed, start=1)})
-        return {**values, "fidelity": FIDELITY.index(level)}
+        return {**fmu_values(self.parameters), "fidelity": FIDELITY.index(level)}
 
     @property
     def w2(self):
@@ -129,6 +123,18 @@ class Scene:
             return forcing_mod.from_csv(path)
         args = {k: f[k] for k in FORCING_ARGS["kanai-tajimi"] if k in f}
         return forcing_mod.kanai_tajimi(self.stop_time, **args)
+
+
+def fmu_values(parameters):
+    """FMU start values of scene or study parameters: floor_m and storey_k (a number for every
+    storey, or a list, storey 1 first) spread over floor[k].m and storey[k].k."""
+    values = {k: v for k, v in parameters.items() if k not in PER_STOREY}
+    for key, pattern in PER_STOREY.items():
+        given = parameters.get(key)
+        if given is not None:
+            listed = given if isinstance(given, list) else [given] * MAX_STOREYS
+            values.update({pattern.format(k): float(v) for k, v in enumerate(listed, start=1)})
+    return values
 
 
 def shipped():

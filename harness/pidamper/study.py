@@ -87,14 +87,14 @@ def run_point(point, engine="fmu", fmu=None):
     return row
 
 
-def _run_shipped(point, engine, fmu_bytes, digest):
-    """A worker's task: write the shipped FMU once per digest, then run the point."""
+def _run_shipped(task, point, engine, fmu_bytes, digest):
+    """A worker's task: write the shipped FMU once per digest, then task(point, engine, path)."""
     path = Path(tempfile.gettempdir()) / f"pidamper-{digest}.fmu"
     if not path.exists():
         tmp = path.with_suffix(f".{os.getpid()}.part")
         tmp.write_bytes(fmu_bytes)
         tmp.replace(path)
-    return run_point(point, engine, path)
+    return task(point, engine, path)
 
 
 class Table:
@@ -128,41 +128,51 @@ class Table:
 def run_study(grid, fixed=None, out="study.csv", engine="fmu", workers=None, dask=False, scheduler=None,
               fmu=None, parquet=None, progress=True):
     """Run every point not yet in `out`; returns the full table as a list of dicts."""
-    from tqdm import tqdm
-
     todo_all = points(grid, fixed)
     columns = ["key"] + list(dict.fromkeys(k for p in todo_all for k in p)) + list(MEASURES)
     table = Table(out, columns)
-    todo = [p for p in todo_all if key(p) not in table.done]
     path = str(find_fmu(fmu)) if engine == "fmu" else None
-    bar = tqdm(total=len(todo_all), initial=len(todo_all) - len(todo), disable=not progress, desc="study",
-               unit="run", file=sys.stderr)
-    try:
-        for row in _execute(todo, engine, path, workers, dask, scheduler):
-            table.add(row)
-            bar.update(1)
-    finally:
-        bar.close()
-        table.close()
+    run_table(run_point, todo_all, [key(p) for p in todo_all], table, engine, path, workers, dask, scheduler,
+              progress, "study")
     rows = [table.done[key(p)] for p in todo_all]
     if parquet:
         _write_parquet(out, parquet)
     return rows
 
 
-def _execute(todo, engine, path, workers, dask, scheduler):
+def run_table(task, todo_all, keys, table, engine, path, workers, dask, scheduler, progress, desc):
+    """Run task(point, engine, path) for every point whose key is not in `table` yet, adding each
+    row as it finishes (the resume record), with a progress bar on a terminal; closes the table."""
+    from tqdm import tqdm
+
+    todo = [p for p, k in zip(todo_all, keys) if k not in table.done]
+    bar = tqdm(total=len(todo_all), initial=len(todo_all) - len(todo), disable=None if progress else True,
+               desc=desc, unit="run", file=sys.stderr)
+    try:
+        for row in execute(task, todo, engine, path, workers, dask, scheduler):
+            table.add(row)
+            bar.update(1)
+    finally:
+        bar.close()
+        table.close()
+
+
+def execute(task, todo, engine, path, workers=None, dask=False, scheduler=None):
+    """Yield task(point, engine, path) for every point of `todo` as they finish: on a local process
+    pool (default, `workers` processes), a local Dask cluster (dask) or a Dask scheduler, which
+    receives the FMU file itself.  `task` must be a module-level function (it is pickled)."""
     if not todo:
         return
     if dask or scheduler:
-        yield from _execute_dask(todo, engine, path, workers, scheduler)
+        yield from _execute_dask(task, todo, engine, path, workers, scheduler)
         return
     with ProcessPoolExecutor(max_workers=workers or os.cpu_count()) as pool:
-        futures = [pool.submit(run_point, p, engine, path) for p in todo]
+        futures = [pool.submit(task, p, engine, path) for p in todo]
         for future in as_completed(futures):
             yield future.result()
 
 
-def _execute_dask(todo, engine, path, workers, scheduler):
+def _execute_dask(task, todo, engine, path, workers, scheduler):
     from dask.distributed import Client, LocalCluster, as_completed as dask_completed
 
     cluster = None
@@ -177,9 +187,9 @@ def _execute_dask(todo, engine, path, workers, scheduler):
             data = Path(path).read_bytes()
             digest = hashlib.sha256(data).hexdigest()[:16]
             shipped = client.scatter(data, broadcast=True)
-            futures = [client.submit(_run_shipped, p, engine, shipped, digest, pure=False) for p in todo]
+            futures = [client.submit(_run_shipped, task, p, engine, shipped, digest, pure=False) for p in todo]
         else:
-            futures = [client.submit(run_point, p, engine, None, pure=False) for p in todo]
+            futures = [client.submit(task, p, engine, None, pure=False) for p in todo]
         for future in dask_completed(futures):
             yield future.result()
     finally:

@@ -1,0 +1,148 @@
+"""`pidamper assess`: the whole path on a tiny suite (runs, resume, Parquet, page, figures), the IDA of
+the bare building against linearity, a suite of .AT2 files, and refusals of bad study files."""
+import re
+from pathlib import Path
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+
+from pidamper import assess, ground_motion
+from pidamper.cli import main
+
+TINY = """
+[study]
+name = "tiny"
+description = "three short records, three stripes"
+
+[building]
+storeys = 2
+floor_m = [1.0e5, 0.8e5]
+storey_k = [8.0e7, 6.0e7]
+zeta_s = 0.02
+fidelity = "damped"
+
+[configurations.bare]
+mu = 0.0
+d = 100.0
+
+[configurations.damper]
+mu = 0.05
+FR = 0.95
+d = 0.01
+e = 0.5
+
+[suite]
+{suite}
+
+[intensity]
+measure = "PGV"
+levels = [0.1, 0.15, 0.2, 0.3, 0.45, 0.7]
+
+[damage_states]
+A = 0.003
+B = 0.006
+
+[hazard]
+k0 = 1.0e-3
+k = 2.5
+
+[run]
+bootstrap = 50
+"""
+GENERATED = 'generator = "kanai-tajimi"\ncount = 4\nseed = 4\nduration = 3.0\ndt = 0.01\nomega_g = 15.6\n' \
+            'zeta_g = 0.6\npga = 1.0'
+
+
+def write(tmp_path, suite=GENERATED, name="tiny.toml"):
+    path = tmp_path / name
+    path.write_text(TINY.replace("{suite}", suite))
+    return path
+
+
+@pytest.fixture(scope="module")
+def tiny(fmu_path, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("assess")
+    study = write(folder)
+    out = folder / "out"
+    assert main(["assess", str(study), "--out", str(out), "--workers", "2", "--fmu", str(fmu_path)]) == 0
+    return study, out
+
+
+def test_the_whole_path_writes_a_page_figures_and_a_tidy_table(tiny):
+    study, out = tiny
+    page = (out / "README.md").read_text()
+    for figure in ("ida.png", "fragility.png"):
+        assert f"]({figure})" in page and (out / figure).stat().st_size > 10_000
+    table = pq.read_table(out / "runs.parquet").to_pydict()
+    assert len(table["key"]) == 4 * 6 * 2 and set(table["configuration"]) == {"bare", "damper"}
+    assert all(v > 0 for v in table["drift_ratio"]) and all(s in (1, 2) for s in table["drift_storey"])
+    bare = [i for i, c in zip(table["impacts"], table["configuration"]) if c == "bare"]
+    assert bare == [0] * 24 and max(i for i, c in zip(table["impacts"], table["configuration"]) if c == "damper") > 0
+    # the risk table: one row per damage state, the MAF of each configuration and their ratio
+    for state in ("A", "B"):
+        assert re.search(rf"^\| {state} \| [0-9.e+-]+ \| [0-9.e+-]+ \| \*\*[0-9.e+-]+\*\* \|$", page, flags=re.M)
+    assert "```toml" in page and "pidamper assess" in page
+
+
+def test_a_second_run_resumes_without_running_again(tiny, fmu_path):
+    study, out = tiny
+    before = (out / "runs.csv").read_text()
+    rows, _, _ = assess.assess(study, out, fmu=str(fmu_path), progress=False)
+    assert (out / "runs.csv").read_text() == before and len(rows) == 48
+
+
+def test_the_bare_building_scales_linearly_with_intensity(tiny):
+    """Linear building, no damper: every demand is proportional to the record's scale factor."""
+    study, out = tiny
+    table = pq.read_table(out / "runs.parquet").to_pydict()
+    per_record = {}
+    for rec, level, conf, drift, acc in zip(table["record"], table["level"], table["configuration"],
+                                            table["drift_ratio"], table["floor_accel"]):
+        if conf == "bare":
+            per_record.setdefault(rec, []).append((drift / level, acc / level))
+    assert len(per_record) == 4
+    for values in per_record.values():
+        drifts, accels = np.array(values).T
+        assert np.ptp(drifts) <= 1e-12 * drifts.mean() and np.ptp(accels) <= 1e-12 * accels.mean()
+
+
+def test_records_are_scaled_to_their_stripe(tiny):
+    study = assess.load(tiny[0])
+    for task in assess.tasks(study)[:6]:
+        record = study.records[task["record_index"]]
+        assert study.intensity(record.scaled(task["factor"])) == pytest.approx(task["level"], rel=1e-12)
+
+
+def test_a_suite_of_at2_files(tmp_path):
+    folder = tmp_path / "records"
+    folder.mkdir()
+    for seed in (1, 2):
+        rec = ground_motion.kanai_tajimi(2.0, 0.01, 15.6, 0.6, pga=2.0, seed=seed)
+        ground_motion.write_at2(folder / f"r{seed}.AT2", rec)
+    study = assess.load(write(tmp_path, 'folder = "records"'))
+    assert [r.name for r in study.records] == ["r1", "r2"] and len(assess.tasks(study)) == 2 * 6 * 2
+
+
+@pytest.mark.parametrize("change,field", [
+    (("storeys = 2", "storeys = 0"), "building.storeys"),
+    (("levels = [0.1, 0.15, 0.2, 0.3, 0.45, 0.7]", "levels = [1.0, 0.5]"), "intensity.levels"),
+    (('measure = "PGV"', 'measure = "SA"'), "intensity.measure"),
+    (("k0 = 1.0e-3", "k0 = -1.0"), "hazard"),
+    (("e = 0.5", "e = 1.5"), "configurations.damper"),
+    (("count = 4", "count = 4\nbogus = 1"), "suite"),
+])
+def test_bad_study_files_are_refused_naming_the_field(tmp_path, change, field):
+    path = write(tmp_path)
+    path.write_text(path.read_text().replace(*change))
+    with pytest.raises(assess.StudyError) as err:
+        assess.load(path)
+    assert f"{field} = " in str(err.value) and "is not allowed" in str(err.value)
+    assert main(["assess", str(path), "--out", str(tmp_path / "o")]) == 2
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_shipped_study_is_valid_and_small_enough():
+    study = assess.load(Path(__file__).parent.parent / "studies" / "three-storey.toml")
+    runs = len(assess.tasks(study))
+    assert runs == 12 * 20 * 2 and study.period == pytest.approx(0.4992, abs=1e-3)
