@@ -50,7 +50,7 @@ from pidamper_physics import Params
 from . import fragility, ground_motion, spectra
 from .forcing import Forcing
 from .scene import FIDELITY, fmu_values
-from .study import Table, run_table
+from .study import Table, add_runner_arguments, run_table
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -510,12 +510,7 @@ def main(argv=None):
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("study", help="the study file (TOML)")
     parser.add_argument("--out", default="assessment", help="output folder (resumed if it holds runs.csv)")
-    parser.add_argument("--engine", choices=("fmu", "core"), default="fmu",
-                        help="run the FMU through fmpy (default) or the physics core directly")
-    parser.add_argument("--workers", type=int, help="processes (default: one per core)")
-    parser.add_argument("--dask", action="store_true", help="use a local Dask cluster")
-    parser.add_argument("--scheduler", help="Dask distributed scheduler address, e.g. tcp://host:8786")
-    parser.add_argument("--fmu", help="FMU file (default: build or reuse dist/PendulumImpactDamper.fmu)")
+    add_runner_arguments(parser)
     args = parser.parse_args(argv)
     command = "pidamper assess " + " ".join(shlex.quote(a) for a in (argv if argv is not None else sys.argv[1:]))
     rows, _, risks = assess(args.study, args.out, args.engine, args.workers, args.dask, args.scheduler, args.fmu,

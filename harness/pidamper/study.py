@@ -235,6 +235,16 @@ def _parse_values(text):
         raise argparse.ArgumentTypeError(f"{text!r} is not allowed: the values must be numbers") from None
 
 
+def add_runner_arguments(parser):
+    """--engine, --workers, --dask, --scheduler, --fmu: how the runs of a study or an assessment go."""
+    parser.add_argument("--engine", choices=("fmu", "core"), default="fmu",
+                        help="run the FMU through fmpy (default) or the physics core directly")
+    parser.add_argument("--workers", type=int, help="processes (default: one per core)")
+    parser.add_argument("--dask", action="store_true", help="use a local Dask cluster")
+    parser.add_argument("--scheduler", help="Dask distributed scheduler address, e.g. tcp://host:8786")
+    parser.add_argument("--fmu", help="FMU file (default: build or reuse dist/PendulumImpactDamper.fmu)")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="pidamper study", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -244,12 +254,7 @@ def main(argv=None):
                         help="a fixed value for every point (repeatable)")
     parser.add_argument("--out", default="study.csv", help="the table (CSV; resumed if it exists)")
     parser.add_argument("--parquet", help="also write the table as Parquet")
-    parser.add_argument("--engine", choices=("fmu", "core"), default="fmu",
-                        help="run the FMU through fmpy (default) or the physics core directly")
-    parser.add_argument("--workers", type=int, help="processes (default: one per core)")
-    parser.add_argument("--dask", action="store_true", help="use a local Dask cluster")
-    parser.add_argument("--scheduler", help="Dask distributed scheduler address, e.g. tcp://host:8786")
-    parser.add_argument("--fmu", help="FMU file (default: build or reuse dist/PendulumImpactDamper.fmu)")
+    add_runner_arguments(parser)
     args = parser.parse_args(argv)
     if not args.grid:
         parser.error("at least one --grid NAME=V1,V2,... is needed")
