@@ -125,7 +125,7 @@ def test_a_suite_of_at2_files(tmp_path):
 
 
 @pytest.mark.parametrize("change,field", [
-    (("storeys = 2", "storeys = 0"), "building.storeys"),
+    (("storeys = 2", "storeys = 11"), "building.storeys"),
     (("levels = [0.1, 0.15, 0.2, 0.3, 0.45, 0.7]", "levels = [1.0, 0.5]"), "intensity.levels"),
     (('measure = "PGV"', 'measure = "SA"'), "intensity.measure"),
     (("k0 = 1.0e-3", "k0 = -1.0"), "hazard"),
@@ -146,3 +146,20 @@ def test_the_shipped_study_is_valid_and_small_enough():
     study = assess.load(Path(__file__).parent.parent / "studies" / "three-storey.toml")
     runs = len(assess.tasks(study))
     assert runs == 12 * 20 * 2 and study.period == pytest.approx(0.4992, abs=1e-3)
+
+
+def test_the_pendulum_primary_works_as_well(tmp_path):
+    """storeys = 0: the pendulum primary, its displacement over the storey height as the drift; the
+    core and the FMU engines agree (the same model), and without the damper the drift is linear."""
+    path = write(tmp_path)
+    text = path.read_text().replace("storeys = 2\nfloor_m = [1.0e5, 0.8e5]\nstorey_k = [8.0e7, 6.0e7]\nzeta_s = 0.02",
+                                    "storeys = 0\nzeta_s = 0.02\nL2 = 0.5")
+    text = text.replace("A = 0.003\nB = 0.006", "A = 0.01\nB = 0.02").replace("d = 0.01", "d = 0.05")
+    path.write_text(text)
+    study = assess.load(path)
+    assert study.period == pytest.approx(2 * 3.141592653589793 * (0.5 / 9.81) ** 0.5)
+    rows = [assess.run_task(t, "core") for t in assess.tasks(study)[:4]]
+    bare = [r for r in rows if r["configuration"] == "bare"]
+    assert bare[1]["drift_ratio"] / bare[1]["level"] == pytest.approx(bare[0]["drift_ratio"] / bare[0]["level"],
+                                                                      rel=1e-12)
+    assert all(r["drift_storey"] == 1 and r["drift_ratio"] > 0 for r in rows)

@@ -8,9 +8,10 @@ The study file (TOML; every field is checked, a refusal names the field, its val
 allowed):
 
     [study]          name, description
-    [building]       FMU parameters of the building (storeys >= 1, floor_m, storey_k: a number or a
-                     list, zeta_s, fidelity "damped"...) and storey_height [m] (a number or a list;
-                     default STOREY_HEIGHT)
+    [building]       FMU parameters of the building (storeys 1..10, floor_m, storey_k: a number or a
+                     list, zeta_s, fidelity "damped"...; or storeys = 0, the pendulum primary, whose
+                     displacement x is the one storey's drift) and storey_height [m] (a number or a
+                     list; default STOREY_HEIGHT)
     [configurations.NAME]   FMU parameters of each configuration on top of the building (mu = 0: no
                      damper); the first one is the reference of the risk ratio
     [suite]          folder = "records/" (every .AT2 and .csv) or generator = "clough-penzien" ... (see
@@ -126,8 +127,9 @@ class Study:
 
 def start_values(params):
     """FMU start values of study parameters (scene.fmu_values; fidelity by name; storey_height is the
-    study's, not the FMU's)."""
+    study's, not the FMU's); every run starts from rest."""
     values = fmu_values({k: v for k, v in params.items() if k != "storey_height"})
+    values.setdefault("theta_dot_0", 0.0)  # from rest (the FMU's default starts a free decay)
     if isinstance(values.get("fidelity"), str):
         values["fidelity"] = FIDELITY.index(values["fidelity"])
     return values
@@ -155,14 +157,15 @@ def parse(data, source="study", folder=Path("."), text=""):
             raise StudyError(source, key, data[key], f"the sections are {', '.join(SECTIONS)}")
     head = _table(data, "study", source)
     building = _table(data, "building", source)
-    storeys = building.get("storeys")
-    if not isinstance(storeys, int) or isinstance(storeys, bool) or not 1 <= storeys <= 10:
-        raise StudyError(source, "building.storeys", storeys, "an integer in 1..10 (the assessment needs a building)")
+    storeys = building.get("storeys", 0)
+    if not isinstance(storeys, int) or isinstance(storeys, bool) or not 0 <= storeys <= 10:
+        raise StudyError(source, "building.storeys", storeys, "an integer in 0..10 (0: the pendulum primary, "
+                         "its displacement x the one storey's drift)")
     heights = building.get("storey_height", STOREY_HEIGHT)
-    heights = heights if isinstance(heights, list) else [heights] * storeys
-    if len(heights) != storeys or not all(_positive(h) for h in heights):
+    heights = heights if isinstance(heights, list) else [heights] * max(storeys, 1)
+    if len(heights) != max(storeys, 1) or not all(_positive(h) for h in heights):
         raise StudyError(source, "building.storey_height", building.get("storey_height"),
-                         f"a positive number [m] or a list of {storeys}")
+                         f"a positive number [m] or a list of {max(storeys, 1)}")
     configurations = _table(data, "configurations", source)
     if not configurations or not all(isinstance(v, dict) for v in configurations.values()):
         raise StudyError(source, "configurations", configurations, "one table [configurations.NAME] or more "
@@ -255,12 +258,15 @@ def run_task(task, engine="fmu", path=None):
     h = task["step"] or task["dt"]
     n = int(round(times[-1] / h))
     heights = np.asarray(task["heights"])
-    storeys = len(heights)
+    storeys = task["values"].get("storeys", 0)  # 0: the pendulum primary, its x the one "drift"
     cpu = time.process_time()
     if engine == "fmu":
         data = run(task["values"], signal, stop_time=n * h, output_interval=h, fmu=path).data
-        drifts = np.column_stack([data[f"storey[{k}].drift"] for k in range(1, storeys + 1)])
-        accels = np.column_stack([data[f"floor[{k}].a"] for k in range(1, storeys + 1)])
+        if storeys:
+            drifts = np.column_stack([data[f"storey[{k}].drift"] for k in range(1, storeys + 1)])
+            accels = np.column_stack([data[f"floor[{k}].a"] for k in range(1, storeys + 1)])
+        else:
+            drifts, accels = data["x"][:, None], (data["a"] + data["a_g"])[:, None]
         stroke, impacts = float(np.abs(data["z"]).max()), int(data["impacts"][-1])
     else:
         drifts, accels, strokes = [], [], []
@@ -268,7 +274,11 @@ def run_task(task, engine="fmu", path=None):
             core = stepper.core
             for k in range(1, n + 1):
                 stepper.advance(k * h)
-                _, acc, drift, _ = core.building_outputs(0.0, float(signal.value(stepper.core.t - h)))
+                ground = float(signal.value(stepper.core.t - h))
+                if storeys:
+                    _, acc, drift, _ = core.building_outputs(0.0, ground)
+                else:
+                    acc, drift = [core.acceleration(0.0, ground) + ground], [core.x]
                 drifts.append(drift)
                 accels.append(acc)
                 strokes.append(abs(core.x - core.y))
