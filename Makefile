@@ -1,10 +1,11 @@
-# Two commands: `make demo` (set up, build the FMU, run the demo scenes) and `make test`.
+# Two commands: `make demo` (set up, build the FMU, run the demo scenes) and `make test` (the tests and
+# the documentation site's strict build); `make docs` builds the site into site/.
 PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: setup fmu demo test test-fast clean
+.PHONY: setup fmu demo test test-fast docs clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -22,9 +23,13 @@ demo: setup
 
 test: setup
 	$(BIN)/python -m pytest
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet --site-dir $(VENV)/site-check
+
+docs: setup
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
 test-fast: setup
 	$(BIN)/python -m pytest -m "not slow"
 
 clean:
-	rm -rf $(VENV) dist out .pytest_cache
+	rm -rf $(VENV) dist out site .pytest_cache

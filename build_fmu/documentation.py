@@ -5,6 +5,7 @@ import html
 import subprocess
 from pathlib import Path
 
+MODEL_NAME = "PendulumImpactDamper"
 REF_OUTPUTS = ("theta", "theta_dot", "alpha", "alpha_dot", "impacts", "contact", "energy", "energy_dissipated")
 
 
@@ -64,20 +65,10 @@ def git_revision():
         return "unknown"
 
 
-def write_index(path, version, parameters, outputs, derived):
-    def rows(items, with_range):
-        out = []
-        for item in items:
-            if with_range:
-                name, _, start, unit, lo, hi, desc = item
-                rng = f"[{'' if lo is None else lo}, {'' if hi is None else hi}]"
-                out.append(f"<tr><td>{name}</td><td>{unit or ''}</td><td>{start!r}</td><td>{rng}</td>"
-                           f"<td>{html.escape(desc)}</td></tr>")
-            else:
-                name, _, unit, desc, feed = item
-                out.append(f"<tr><td>{name}</td><td>{unit or ''}</td><td>{'F' if feed else ''}</td>"
-                           f"<td>{html.escape(desc)}</td></tr>")
-        return "\n".join(out)
+def write_index(path, version):
+    """documentation/index.html: the model, its assumptions, its variables (build_fmu.variables) and
+    the default experiment."""
+    from .variables import html_tables
 
     text = f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>PendulumImpactDamper</title></head><body>
@@ -115,17 +106,7 @@ looked. The Windows binary is pythonfmu's own (not tested): the host needs Pytho
 <li>the FMI 2.0 calling sequence is enforced: a call not allowed in the instance's state, on a variable of
 another type or on an unknown value reference answers fmi2Error with a logged message, as does any value
 the model refuses; fixed parameters set after initialization to their current value are accepted.</li></ul>
-<h2>Parameters</h2>
-<table border="1"><tr><th>name</th><th>unit</th><th>start</th><th>range</th><th>description</th></tr>
-{rows(parameters, True)}</table>
-<h2>Outputs</h2>
-<table border="1"><tr><th>name</th><th>unit</th><th>feedthrough</th><th>description</th></tr>
-{rows(outputs, False)}</table>
-<h2>Local variables</h2>
-<p>Derived and bookkeeping values, computed with the outputs after each step; hosts do not record
-locals by default, any host reads them by name.</p>
-<table border="1"><tr><th>name</th><th>unit</th><th>feedthrough</th><th>description</th></tr>
-{rows(derived, False)}</table>
+{html_tables(MODEL_NAME)}
 <p>Local variables impact[k].t, .side, .v_rel_before, .v_rel_after, .energy_lost, .theta (k = 1..16) record
 the impacts of the last communication step (slots beyond impacts_in_step hold zeros); hosts do not record
 them by default, any host reads them by name after fmi2DoStep.</p>
@@ -140,12 +121,10 @@ Result: PendulumImpactDamper_ref.csv.</p>
 
 def write(folder, version):
     """Fill `folder` with index.html, default_experiment.png and PendulumImpactDamper_ref.csv."""
-    from pidamper_fmu.slave import BUILDING, DERIVED, OUTPUTS, PARAMETERS
-
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     rows = reference_result()
     write_reference_csv(folder / "PendulumImpactDamper_ref.csv", rows)
     write_plot(folder / "default_experiment.png", rows)
-    write_index(folder / "index.html", version, PARAMETERS, OUTPUTS + BUILDING, DERIVED)
+    write_index(folder / "index.html", version)
     return folder

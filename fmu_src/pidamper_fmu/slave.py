@@ -40,6 +40,10 @@ _START = {**DEFAULTS, **INITIAL_DEFAULTS, "angle_limit": SmallAngleMonitor.DEFAU
           **{f"floor[{k}].m": FLOOR_MASS for k in range(1, MAX_STOREYS + 1)},
           **{f"storey[{k}].k": STOREY_STIFFNESS for k in range(1, MAX_STOREYS + 1)}}
 
+# name, unit, description: held over each communication step
+INPUTS = (("F", "N", "horizontal force on the primary mass (storeys >= 1: on the damper floor)"),
+          ("a_g", "m/s2", "ground acceleration of a base excitation (acts on both bodies)"))
+
 # name, type, start, unit, min, max, description
 PARAMETERS = tuple((name, kind, _START[name], unit, lo, hi, desc) for name, kind, unit, lo, hi, desc in (
     ("g", Real, "m/s2", 0.0, None, "gravitational acceleration (> 0)"),
@@ -164,12 +168,9 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
         self._buffer = None
         self.F = 0.0
         self.a_g = 0.0
-        self.register_variable(Real("F", causality=Fmi2Causality.input, variability=Fmi2Variability.continuous,
-                                    description="horizontal force on the primary mass [N]",
-                                    setter=self._input_setter("F")))
-        self.register_variable(Real("a_g", causality=Fmi2Causality.input, variability=Fmi2Variability.continuous,
-                                    description="ground acceleration of a base excitation [m/s2]",
-                                    setter=self._input_setter("a_g")))
+        for name, unit, desc in INPUTS:
+            self.register_variable(Real(name, causality=Fmi2Causality.input, variability=Fmi2Variability.continuous,
+                                        description=desc, setter=self._input_setter(name)))
         for name, kind, start, *_ in PARAMETERS:
             setattr(self, name, start)
             tunable = name == "e"
@@ -415,7 +416,6 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
         root = super().to_xml(model_options)
         info = {name: (unit, lo, hi, desc) for name, _, _, unit, lo, hi, desc in PARAMETERS}
         info.update({name: (unit, None, None, desc) for name, _, unit, desc, *_ in COMPUTED + RECORD})
-        info["F"] = ("N", None, None, "horizontal force on the primary mass (storeys >= 1: on the damper floor)")
-        info["a_g"] = ("m/s2", None, None, "ground acceleration of a base excitation (acts on both bodies)")
+        info.update({name: (unit, None, None, desc) for name, unit, desc in INPUTS})
         outputs = [(name, ("F", "a_g") if feedthrough else ()) for name, _, _, _, feedthrough in OUTPUTS + BUILDING]
         return describe(root, info, outputs)

@@ -1,6 +1,6 @@
 """General eigen-solver for the modes of q'' + C q' + K q (any n), plain Python (math, cmath).
 
-Conventions: matrices are nested lists, a[i][j] = row i, column j; K and C are real n x n and
+Conventions: matrices are nested lists, `a[i][j]` = row i, column j; K and C are real n x n and
 need not be symmetric (M^-1 K, M^-1 C of a lumped system, C non-proportional in general).  The
 state matrix A = [[0, I], [-K, -C]] (2n x 2n, acting on z = (q, q')) has the eigenvalues of the
 quadratic pencil P(lam) = lam^2 I + lam C + K, and the eigenvector (phi, lam phi) for

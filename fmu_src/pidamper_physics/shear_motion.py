@@ -11,7 +11,7 @@ Phi^T C Phi = diag(2 zeta w_r)):
 
 each a damped oscillator under a constant load, solved in closed form (`sdof`).  An impulse J
 [N s] on floor k at an instant changes floor k's velocity by J / m_k and no displacement; in
-modal terms q_r' jumps by Phi[k][r] J.  A step with impulses at instants inside it is solved
+modal terms q_r' jumps by `Phi[k][r] J`.  A step with impulses at instants inside it is solved
 piece by piece between them, so it is exact for held loads and instantaneous impulses.
 
 The state is kept in modal coordinates (q, q'), so stepping never re-projects; floor values are
