@@ -191,12 +191,12 @@ def test_a_bad_override_is_refused_like_a_bad_field(capsys):
     assert "run.stop_time = -3.0 is not allowed: it must be > 0" in capsys.readouterr().err
 
 
-def test_the_readme_s_scene_examples_are_valid_scenes():
-    readme = (Path(__file__).parents[1] / "README.md").read_text()
-    blocks = readme.split("```toml\n")[1:]
+def test_the_guide_s_scene_examples_are_valid_scenes():
+    guide = (Path(__file__).parents[1] / "docs" / "guide" / "scenes.md").read_text()
+    blocks = guide.split("```toml\n")[1:]
     assert len(blocks) >= 2
     for block in blocks:
-        sc = scene.parse(scene.tomllib.loads(block.split("```")[0]), "README")
+        sc = scene.parse(scene.tomllib.loads(block.split("```")[0]), "docs/guide/scenes.md")
         assert sc.stop_time > 0
         if sc.forcing["kind"] != "csv":  # the csv example names a user's file
             assert sc.make_forcing().kind == sc.forcing["kind"]
