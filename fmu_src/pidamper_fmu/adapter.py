@@ -150,15 +150,6 @@ class ComponentSlave(FmiEntry, Fmi2Slave):
         state["_core"] = self._core.get_state() if self._initialized else None
         return state
 
-    @guarded(lambda args: None)
-    def _set_fmu_state(self, state):
-        previous = self._get_fmu_state()
-        try:
-            self._restore(state)
-        except Exception:
-            self._restore(previous)
-            raise
-
     def _restore(self, state):
         if not isinstance(state, dict) or set(state) != self._state_keys:
             got = sorted(state) if isinstance(state, dict) else type(state).__name__

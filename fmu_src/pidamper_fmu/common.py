@@ -182,6 +182,18 @@ class FmiEntry:
             self._fail("currentCommunicationPoint", current_time,
                        f"it must equal the FMU time {t!r} (relative tolerance {TIME_TOLERANCE})")
 
+    @guarded(lambda args: None)
+    def _set_fmu_state(self, state):
+        """Restore a state _get_fmu_state wrote (the model's `_restore`); one that does not come
+        from this model is refused with a message naming the key, and the instance keeps the state
+        it had."""
+        previous = self._get_fmu_state()
+        try:
+            self._restore(state)
+        except Exception:
+            self._restore(previous)
+            raise
+
     # ---- variable access: type-checked, one pass per call -----------------------------
 
     def _checked(self, vrs, kind):

@@ -361,17 +361,6 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
         state["_monitor"] = None if monitor is None else monitor.get_state()
         return state
 
-    @guarded(lambda args: None)
-    def _set_fmu_state(self, state):
-        """Restore a state _get_fmu_state wrote; one that does not come from this model is refused
-        with a message naming the key, and the instance keeps the state it had."""
-        previous = self._get_fmu_state()
-        try:
-            self._restore(state)
-        except Exception:
-            self._restore(previous)
-            raise
-
     def _restore(self, state):
         if not isinstance(state, dict) or set(state) != _STATE_KEYS:
             got = sorted(state) if isinstance(state, dict) else type(state).__name__

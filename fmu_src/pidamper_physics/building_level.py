@@ -144,8 +144,18 @@ class BuildingModel:
 
     # ---- outputs --------------------------------------------------------------------
 
+    _acc_key = _acc = None  # the last state's floor accelerations: the outputs of a step ask thrice
+
     def _accelerations(self, x, v, y, u, side, f, ground):
-        """Relative accelerations of all floors [m/s2] (f = applied force per floor-j mass)."""
+        """Relative accelerations of all floors [m/s2] (f = applied force per floor-j mass); the
+        last result is kept for the same state and loads (the others compared by value)."""
+        key = (x, v, y, u, side, f, ground, self.others)
+        if key == self._acc_key:
+            return self._acc
+        self._acc_key, self._acc = key, self._compute_accelerations(x, v, y, u, side, f, ground)
+        return self._acc
+
+    def _compute_accelerations(self, x, v, y, u, side, f, ground):
         p = self.p
         n, j = self.n, self.j
         xs, vs = self.floors(x, v)
