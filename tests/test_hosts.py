@@ -275,3 +275,42 @@ def test_without_a_c_compiler_the_fmu_keeps_pythonfmus_binary(fmu_path, tmp_path
     names = zipfile.ZipFile(plain).namelist()
     assert "binaries/linux64/PendulumImpactDamper.so" in names
     assert "binaries/linux64/PendulumImpactDamper_pythonfmu.so" not in names
+
+
+@pytest.mark.parametrize("model", ["PendulumImpactDamper", "PendulumImpactDamperUnit", "ShearBuilding"])
+def test_every_fmu_in_a_native_host_under_an_awkward_path(fmu_path, tmp_path, model):
+    """Each FMU as a system simulator sees it: unpacked under a path with spaces, an accent and
+    parentheses, opened by a C host with RTLD_NOW | RTLD_LOCAL from a plain environment (the FMU
+    starts Python by itself, in UTF-8 mode: before, a non-ASCII folder failed fmi2Instantiate there),
+    every output read at every step; then fmpy from the same folder, and a step before
+    initialization refused with fmi2Error (after fmi2Reset the instance runs)."""
+    from fmpy.fmi1 import FMICallException
+    from fmpy.fmi2 import FMU2Slave
+
+    from pidamper.benchmarks.floor import build_every_output_host
+
+    fmu = fmu_path.with_name(f"{model}.fmu")
+    unzipped = fmpy.extract(str(fmu), unzipdir=str(tmp_path / "José models (copy)"))
+    md = fmpy.read_model_description(str(fmu))
+    outputs = [f"{v.type[0]}:{v.valueReference}" for v in md.modelVariables if v.causality == "output"]
+    exe = build_every_output_host(tmp_path)
+    done = subprocess.run([str(exe), unzipped, md.coSimulation.modelIdentifier, md.guid, "200", "0.01"] + outputs,
+                          capture_output=True, text=True, env=PLAIN_ENV, timeout=300)
+    assert done.returncode == 0, done.stderr[-2000:]
+    result = fmpy.simulate_fmu(unzipped, stop_time=1.0, output_interval=0.01)
+    assert len(result) == 101 and all(np.isfinite(result[n]).all() for n in result.dtype.names)
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName="early")
+    slave.instantiate()
+    try:
+        with pytest.raises(FMICallException) as err:
+            slave.doStep(currentCommunicationPoint=0.0, communicationStepSize=0.01)
+        assert err.value.status == 3  # fmi2Error, not fmi2Fatal; fmi2Reset leaves the error state
+        slave.reset()
+        slave.setupExperiment(startTime=0.0)
+        slave.enterInitializationMode()
+        slave.exitInitializationMode()
+        slave.doStep(currentCommunicationPoint=0.0, communicationStepSize=0.01)
+        slave.terminate()
+    finally:
+        slave.freeInstance()

@@ -214,6 +214,8 @@ static int python_home(const char *lib, char *home, size_t n) {
     return 0;
 }
 
+typedef void (*InitPreConfigFn)(PyPreConfig *);
+typedef PyStatus (*PreInitializeFn)(const PyPreConfig *);
 typedef void (*InitConfigFn)(PyConfig *);
 typedef PyStatus (*SetBytesFn)(PyConfig *, wchar_t **, const char *);
 typedef PyStatus (*InitFromConfigFn)(const PyConfig *);
@@ -236,12 +238,26 @@ static int start_python(void *handle, const char *where, char *why, size_t n) {
         snprintf(why, n, "%s: no standard library (lib/python%s/os.py) above it", where, PY_MINOR);
         return 0;
     }
+    LOOKUP(handle, InitPreConfigFn, init_pre, "PyPreConfig_InitIsolatedConfig")
+    LOOKUP(handle, PreInitializeFn, pre_initialize, "Py_PreInitialize")
     LOOKUP(handle, InitConfigFn, init_isolated, "PyConfig_InitIsolatedConfig")
     LOOKUP(handle, SetBytesFn, set_bytes, "PyConfig_SetBytesString")
     LOOKUP(handle, InitFromConfigFn, init_from_config, "Py_InitializeFromConfig")
     LOOKUP(handle, StatusExceptionFn, failed, "PyStatus_Exception")
     LOOKUP(handle, ClearConfigFn, clear, "PyConfig_Clear")
     LOOKUP(handle, SaveThreadFn, save_thread, "PyEval_SaveThread")
+    /* UTF-8 mode: file names are UTF-8 whatever the host's locale (an isolated interpreter in a
+     * process that never called setlocale would take them as ASCII: a resources folder under
+     * /home/José could not be opened) */
+    PyPreConfig pre;
+    init_pre(&pre);
+    pre.utf8_mode = 1;
+    PyStatus pre_status = pre_initialize(&pre);
+    if (failed(pre_status)) {
+        snprintf(why, n, "%s: the interpreter did not pre-initialize: %s", where,
+                 pre_status.err_msg ? pre_status.err_msg : "no reason given");
+        return 0;
+    }
     PyConfig config;
     init_isolated(&config);
     config.site_import = 0;             /* the FMU brings pythonfmu and its packages in resources/ */

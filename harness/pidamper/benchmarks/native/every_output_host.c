@@ -5,6 +5,7 @@
  *   every_output_host <unzipped FMU> <model identifier> <GUID> <steps> <h> <R|I>:<vr> ...
  */
 #include <dlfcn.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,7 +14,13 @@
 
 static void logger(fmi2ComponentEnvironment e, fmi2String n, fmi2Status s, fmi2String c, fmi2String m, ...) {
     (void)e; (void)c;
-    if (s >= fmi2Error) fprintf(stderr, "[%s] status %d: %s\n", n, (int)s, m);
+    if (s < fmi2Error) return;
+    va_list args;  /* the message is a printf format (FMI 2.0, 2.1.5) */
+    va_start(args, m);
+    fprintf(stderr, "[%s] status %d: ", n, (int)s);
+    vfprintf(stderr, m, args);
+    fputc('\n', stderr);
+    va_end(args);
 }
 
 #define LOAD(name) name##TYPE *name = (name##TYPE *)dlsym(lib, #name); \
