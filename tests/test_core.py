@@ -371,14 +371,14 @@ def test_coasting_fast_path_equals_the_segment_path_bit_for_bit(case):
     runs, coasted = [], []
     for fast in (True, False):
         core = Damper(Params(**values), 0.0, a0, 0.0, 0.0)
-        model_coast, count = core._coast_model, [0]
+        model_coast, count = core._coaster, [0]
 
         def counting(*args):
             state = model_coast(*args)
             count[0] += state is not None
             return state
 
-        core._coast_model = counting if fast else None
+        core._coaster = counting if fast else None
         states = []
         for k in range(1, n + 1):
             force = 0.05 * math.sin(w2 * k * h) if case == "resonance reaching the stops" else 0.05

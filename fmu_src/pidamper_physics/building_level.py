@@ -15,16 +15,17 @@ N = m (x_j'' + a_g + w1^2 r).  An impact exchanges momentum between the particle
 only (impact.py with mu = m / m_j): no other floor moves at that instant.
 
 The Damper keeps x, v = floor j's displacement and velocity and y, u the particle's; the model
-keeps the other floors' state in `others` (x_k, then v_k, for k != j), which the Damper updates
-from each segment (Damper._move) and saves with its state.  Both the free (N+1)-DOF system and
+keeps the other floors' state in `others` (x_k, then v_k, for k != j), carries it along each piece
+the Damper takes (follow) and saves it with the Damper's state (get_state: key "others").  Both the free (N+1)-DOF system and
 the riding N-DOF one are solved in closed form by modes (modal.py).
 """
 import math
 
 from .impact import collide, impact_loss
+from .level_model import LevelModel
 from .modal import Modes, ModesError, Motion
 from .modal_segments import _ORDERS, ModalFlight, harmonic_work
-from .params import ParameterError
+from .params import ParameterError, check_finite
 from .segments import TOLERANCE, noise_size
 
 
@@ -32,14 +33,11 @@ def _per_mass(matrix, masses):
     return [[value / masses[i] for value in row] for i, row in enumerate(matrix)]
 
 
-class BuildingModel:
+class BuildingModel(LevelModel):
     """Level model of a building with the particle hung from floor j (see the module doc)."""
 
-    reach = math.inf
-    piece_weight = 1
-
     def __init__(self, p):
-        self.p = p
+        super().__init__(p)
         b = p.building
         n, j = b.n, p.floor
         self.n, self.j = n, j
@@ -82,6 +80,23 @@ class BuildingModel:
         """Put the other floors' state (the damper floor's is the Damper's x, v)."""
         j = self.j
         self.others = list(xs[:j]) + list(xs[j + 1:]) + list(vs[:j]) + list(vs[j + 1:])
+
+    def follow(self, seg, tau):
+        """The other floors at tau of the piece the Damper takes."""
+        self.others = seg.others(tau)
+
+    def get_state(self):
+        state = super().get_state()
+        state["others"] = list(self.others)  # the other floors
+        return state
+
+    def set_state(self, state):
+        others = state.get("others")
+        if not isinstance(others, list) or len(others) != len(self.others):
+            raise ParameterError("state others", others, f"{len(self.others)} numbers: the other floors")
+        for k, value in enumerate(others):
+            check_finite(f"state others[{k}]", value)
+        self.others = [float(v) for v in others]
 
     def displacements(self, x, v, y, u):
         return x, v, y, u

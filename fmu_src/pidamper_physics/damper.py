@@ -2,8 +2,8 @@
 
 Coordinates are linear: x = L2 theta (primary), y = L1 alpha (particle), v, u
 their velocities [m, m/s].  Between events both bodies follow closed-form
-linear motion (segments.py); events are located exactly (events.py) and
-handled here:
+linear motion (segments.py); events are located exactly (events.py) by the
+event loop every model shares (stepping.py), and handled by these rules:
 
 - impact (transversal contact inside the gap): Newton's law (impact.py);
   displacement form: if the rebound would rise less than `CHATTER_HEIGHT`
@@ -28,22 +28,12 @@ E(0) + work_in - E(t) = dissipated up to rounding.
 """
 import math
 
-from .events import CROSS, locate, classify, resolution_speed
 from .levels import model_for
 from .params import DISPLACEMENT, Params, ParameterError, check_finite, check_restitution
 from .segments import GAP_RESOLUTION, TOLERANCE
+from .stepping import CHATTER_HEIGHT, FREE, MAX_PIECES, OUTSIDE, STICK, EventDriven
 
-FREE = 0     # both bodies swing freely inside the gap
-STICK = 1    # the particle rides stop `side` (displacement form)
-OUTSIDE = 2  # angle form: the bodies have passed through stop `side`
-
-CHATTER_HEIGHT = 16.0  # rebound apex, in position-rounding units, below which chatter collapses
-
-#: most pieces (loop passes of Damper.advance: a smooth piece, or a piece that ends at an event)
-#: one call may take, divided by the level's `piece_weight` (an integrator step of the nonlinear
-#: level costs about five closed-form pieces); a step that needs more is refused (FMI 2.0 cannot
-#: interrupt fmi2DoStep): about 0.3 s of work on the 2-core machine at every level
-MAX_PIECES = 10000
+__all__ = ["Damper", "check_state", "FREE", "STICK", "OUTSIDE", "CHATTER_HEIGHT", "MAX_PIECES", "STATE_KEYS"]
 
 STATE_KEYS = ("t", "t_lo", "x", "v", "y", "u", "mode", "side", "fresh", "impacts", "dissipated",
               "work_in", "viscous", "energy")
@@ -73,7 +63,7 @@ def check_state(state):
             check_finite(f"state {key}", value)
 
 
-class Damper:
+class Damper(EventDriven):
     """Event-driven pendulum impact damper; see the module doc for the rules."""
 
     def __init__(self, params=None, theta0=0.0, theta_dot0=0.0, alpha0=0.0, alpha_dot0=0.0, t0=0.0, floors0=None):
@@ -81,14 +71,12 @@ class Damper:
         its floors [m, m/s]; theta0 and theta_dot0 then play no part (alpha0 is the particle's wire angle)."""
         p = params if params is not None else Params()
         self.p = p
-        self.model = model_for(p)
-        self._carry = getattr(self.model, "others", None) is not None  # the level keeps more floors
+        self.model = model = model_for(p)
         for name, val in (("theta_0", theta0), ("theta_dot_0", theta_dot0), ("alpha_0", alpha0),
                           ("alpha_dot_0", alpha_dot0), ("start time", t0)):
             check_finite(name, val)
-        self.t = float(t0)
-        self.t_lo = 0.0  # the state's time is t + t_lo exactly: t_lo keeps what rounding t dropped
-        self.x, self.v, self.y, self.u = self.model.from_angles(theta0, theta_dot0, alpha0, alpha_dot0)
+        self._start_clock(float(t0))
+        self.x, self.v, self.y, self.u = model.from_angles(theta0, theta_dot0, alpha0, alpha_dot0)
         if floors0 is not None:
             self._start_floors(*floors0)
         x, _, y, _ = self.displacements()
@@ -98,10 +86,8 @@ class Damper:
             name = "d" if p.contact_form == DISPLACEMENT else "d_angle"
             raise ParameterError("theta_0, alpha_0", (theta0, alpha0),
                                  f"the initial state penetrates a stop: |gap| = {abs(gap)!r} > {name} = {p.D!r}")
-        self.mode = FREE
-        self.side = 0
-        self.fresh = False  # True right after a mode switch at the current instant
-        self.impacts = 0
+        self._clearance = p.D
+        self._passes_through = p.contact_form != DISPLACEMENT
         self.dissipated = 0.0
         self.work_in = 0.0
         self.viscous = 0.0  # energy taken by the dashpots (damped level on)
@@ -110,12 +96,10 @@ class Damper:
         self.on_impact = None  # optional callback(t, side, rel_before, rel_after, loss)
         # longest segment: one period of the fastest motion keeps trig arguments (and
         # so rounding) small and the derivative bounds tight
-        self._max_span = 2.0 * math.pi / self.model.fastest
-        self._coast_model = getattr(self.model, "coast", None)  # a level's segment-free flight, if any
-        self._may_coast = True  # the last piece was clear of the stops: try coasting first (a hint only)
-        self._observables = getattr(self.model, "observables", None)  # a level's outputs in one call, if any
-        self.pieces = 0  # loop passes of the last advance (see its progress argument)
-        self.max_pieces = math.inf  # no cap on a call's work unless bound_work() sets one
+        self._max_span = 2.0 * math.pi / model.fastest
+        self._coaster = model.coast  # the level's segment-free flight, or None
+        self._follow = model.follow  # the level's own state carried along a piece, or None
+        self._observables = model.observables  # the level's outputs inline, or None (bound once: per step)
 
     # ---- public API -------------------------------------------------------------------
 
@@ -130,54 +114,7 @@ class Damper:
             check_finite("F", force)
             check_finite("a_g", ground)
             check_finite("t_end", t_end)
-        if t_end < self.t:
-            raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
-        cap = self.max_pieces
-        if t_end - self.t > self._max_span * cap:
-            self._too_long(t_end)
-        fc = (force / self.p.M - ground, -ground)  # loads per mass on the primary and the particle
-        ready = None  # a flight segment already built at the current state by the last event
-        coast = self._coast_model if observe is None else None
-        # Progress: a pass either ends the call (the piece reaches t_end), moves the state by a
-        # whole span (_max_span, one period of the fastest motion: at most h / _max_span such
-        # passes), or moves it to an event and handles it.  An event switches the mode and sets
-        # `fresh`, so locate does not report the same instant again: the next event lies at
-        # tau > 0 (events.py: every locate pass advances tau by at least one ulp, at most
-        # events.MAX_PASSES passes).  Hence passes <= h / _max_span + 2 (events + 1) for the
-        # closed-form levels (the nonlinear one adds its integrator steps, seg.reach): finite, as
-        # the events are (chatter collapses below CHATTER_HEIGHT), and capped at max_pieces, so
-        # no input makes a call run on without bound.
-        pieces = 0
-        impacts = self.impacts
-        while self.t < t_end:
-            pieces += 1
-            if pieces > cap:
-                self._too_many(t_end, self.impacts - impacts)
-            horizon = (t_end - self.t) - self.t_lo
-            if horizon <= 0.0:  # the state is already at t_end; the clock catches up
-                self.t, self.t_lo = t_end, self.t_lo + (self.t - t_end)
-                break
-            span = min(horizon, self._max_span)
-            if coast is not None and ready is None and self._may_coast and self.mode == FREE:
-                state = coast(self.x, self.v, self.y, self.u, fc[0], fc[1], span)  # None: a stop within reach
-                if state is not None:
-                    self._coast(state, span, t_end if span == horizon else None)
-                    continue
-            seg = ready or self._segment(fc, span)
-            self._may_coast = clear = seg.clear
-            if not clear and self.mode == FREE and seg.noise[0] * GAP_RESOLUTION > self.p.D:
-                self._unresolved(seg.noise[0])
-            if seg.reach < span:  # an integrator step (nonlinear level) ends before the span
-                span = seg.reach
-            event = locate(seg, span, self.fresh)
-            if event is None:
-                self._move(seg, span, t_end if span == horizon else None, fc, observe)
-                ready = None
-                continue
-            tau, kind, guard = event
-            self._move(seg, tau, t_end if tau >= horizon else None, fc, observe)
-            ready = self._handle(kind, 1 - 2 * guard, fc, min(t_end - self.t, self._max_span))
-        self.pieces = pieces
+        self._run(t_end, (force / self.p.M - ground, -ground), observe)  # loads per mass: primary, particle
         check = self.x + self.v + self.y + self.u + self.energy + self.work_in
         if check - check != 0.0:  # a value overflowed: refuse rather than answer inf or nan
             self._overflowed(force, ground)
@@ -208,7 +145,7 @@ class Damper:
     def floors(self):
         """(displacements, velocities) of a building's floors [m, m/s] relative to the ground, floor 1
         first (storeys >= 1 only)."""
-        if not self._carry:
+        if not self.p.storeys:
             raise ParameterError("storeys", self.p.storeys, "floors() needs a building: storeys >= 1")
         return self.model.floors(self.x, self.v)
 
@@ -220,7 +157,7 @@ class Damper:
 
     def _start_floors(self, xs, vs):
         n = self.p.storeys
-        if not self._carry or len(xs) != n or len(vs) != n:
+        if not n or len(xs) != n or len(vs) != n:
             raise ParameterError("floors0", (xs, vs), f"it needs a building and {n} displacements and velocities")
         for k, value in enumerate(list(xs) + list(vs)):
             check_finite(f"floors0[{k}]", value)
@@ -233,7 +170,7 @@ class Damper:
     def bound_work(self):
         """Cap each advance() at MAX_PIECES / the level's piece_weight pieces, refusing a call that
         needs more (for hosts that cannot interrupt a call, such as fmi2DoStep)."""
-        self.max_pieces = MAX_PIECES // getattr(self.model, "piece_weight", 1)
+        EventDriven.bound_work(self, self.model.piece_weight)
 
     def set_restitution(self, e):
         self.p.e = check_restitution(e)
@@ -246,11 +183,6 @@ class Damper:
     def displacements(self):
         """(x, v, y, u): horizontal positions and velocities of primary and particle [m, m/s]."""
         return self.model.displacements(self.x, self.v, self.y, self.u)
-
-    @property
-    def contact(self):
-        """+1 / -1 while the particle rides that stop, else 0."""
-        return self.side if self.mode == STICK else 0
 
     def acceleration(self, force=0.0, ground=0.0):
         """Primary acceleration [m/s2] (relative to the ground) under held force `force` [N] and
@@ -279,29 +211,20 @@ class Damper:
         return theta, theta_dot, alpha, alpha_dot, px, py, model.acceleration(x, v, y, u, side, f, ground), contact
 
     def get_state(self):
-        """Plain dict (JSON-safe) of everything that determines the future motion."""
+        """Plain dict (JSON-safe) of everything that determines the future motion: the keys of
+        STATE_KEYS and the level's own (LevelModel.get_state)."""
         state = {k: getattr(self, k) for k in STATE_KEYS}
-        state["step_hint"] = getattr(self.model, "hint", 0.0)  # the integrator's next step (nonlinear)
-        if self._carry:
-            state["others"] = list(self.model.others)  # a building's other floors
+        state.update(self.model.get_state())
         return state
 
     def set_state(self, state):
         """Restore a dict get_state() wrote; anything else is refused (ParameterError naming the
         key, its value and the rule) before the state changes."""
         check_state(state)
-        if self._carry:
-            others = state.get("others")
-            if not isinstance(others, list) or len(others) != len(self.model.others):
-                raise ParameterError("state others", others, f"{len(self.model.others)} numbers: the other floors")
-            for k, value in enumerate(others):
-                check_finite(f"state others[{k}]", value)
-            self.model.others = [float(v) for v in others]
+        self.model.set_state(state)  # checks its own keys before it changes anything
         self._may_coast = True
         for k in STATE_KEYS:
             setattr(self, k, state.get(k, 0.0) if k == "t_lo" else state[k])
-        if hasattr(self.model, "hint"):
-            self.model.hint = state["step_hint"]
 
     # ---- internals --------------------------------------------------------------------
 
@@ -318,18 +241,8 @@ class Damper:
             return model.outside(self.x, self.v, self.y, self.u, fc, psi, horizon, self.side)
         return model.flight(self.x, self.v, self.y, self.u, fc, psi, horizon)
 
-    def _too_long(self, t_end):
-        p = self.p
-        raise ParameterError("step", t_end - self.t, f"one call may take at most {self.max_pieces} pieces, each at most "
-                             f"one period {self._max_span:.6g} s of the fastest motion "
-                             f"({2.0 * math.pi / self._max_span:.6g} rad/s, from g, L2, FR, mu"
-                             f"{', Omega' if p.Omega_acting else ''}), so at most "
-                             f"{self.max_pieces * self._max_span:.6g} s: take shorter communication steps")
-
-    def _too_many(self, t_end, impacts):
-        raise ParameterError("step", t_end - self.t, f"it needed more than {self.max_pieces} pieces by t = {self.t!r} s "
-                             f"({impacts} impacts among them: a chatter or impact sequence too dense for one call; "
-                             "the state is left there): take shorter communication steps")
+    def _fastest_from(self):
+        return f", from g, L2, FR, mu{', Omega' if self.p.Omega_acting else ''}"
 
     def _unresolved(self, noise):
         p = self.p
@@ -359,8 +272,8 @@ class Damper:
         book = self.model.work
         before = (self.x, self.v, self.y, self.u) if book is not None else None
         self.x, self.v, self.y, self.u = after = seg.positions(tau)
-        if self._carry:
-            self.model.others = seg.others(tau)
+        if self._follow is not None:
+            self._follow(seg, tau)
         if tau > 0.0:
             self.fresh = False
         e_new = self._energy()
@@ -372,17 +285,6 @@ class Damper:
             self.viscous += viscous
         self.energy = e_new
         self.t, self.t_lo = t_new, lo
-
-    def _tick(self, tau, t_end):
-        """(t, t_lo) of the clock moved by tau (two-sum; t_end: the piece ends there exactly)."""
-        t = self.t
-        s = t + tau
-        b = s - t
-        lo = self.t_lo + ((t - (s - b)) + (tau - b))
-        if t_end is None:
-            t_new = s + lo  # renormalised: |t_lo| stays within half an ulp of t
-            return t_new, lo - (t_new - s)
-        return t_end, lo + (s - t_end)
 
     def _coast(self, state, tau, t_end):
         """_move for a free flight the level computed without a segment (no dashpots to book)."""
@@ -405,39 +307,9 @@ class Damper:
         p = self.p
         return p.Omega * self.t + p.phi + p.Omega * self.t_lo
 
-    def _switch(self, mode, side):
-        self.mode, self.side, self.fresh = mode, side, True
-
-    def _handle(self, kind, side, fc, span):
-        """Event of kind CROSS or TOUCH; in free flight `side` is the stop (+1: guard 0).
-        Returns the flight segment from the new state when the pair stays free, else None."""
-        if self.mode != FREE:
-            self._switch(FREE, 0)  # release from the stop, or re-entry into the gap
-            return None
-        self._snap(side)
-        if kind == CROSS:
-            self._impact(side)
-        seg = self.model.flight(self.x, self.v, self.y, self.u, fc, self._phase(), span,
-                                always_bound=True)
-        mode = self._after_contact(seg, side, kind == CROSS)
-        self._switch(mode, 0 if mode == FREE else side)
-        return seg if mode == FREE else None
-
-    def _after_contact(self, seg, side, impacted):
-        """Mode after a contact on `side`: FREE, STICK (displacement) or OUTSIDE (angle form);
-        `seg` is the flight from the post-contact state."""
-        g, g1, g2, g3 = seg.derivs(0.0, 0 if side > 0 else 1)
-        n0, n1, n2, n3 = seg.noise
-        _, first = classify(g1, g2, g3, resolution_speed(g2, n0, n1, n2), n2, n3)
-        if self.p.contact_form != DISPLACEMENT:
-            return OUTSIDE if first < 0.0 else FREE  # still closing: pass through the stop
-        # rebound rises less than CHATTER_HEIGHT rounding units while pressed in: the
-        # rest of the chatter sequence collapses into one plastic impact
-        chatter_ends = g2 < -n2 and g1 * g1 <= -2.0 * g2 * CHATTER_HEIGHT * n0
-        if chatter_ends or first < 0.0:
-            self._collapse(side, impacted)
-            return STICK
-        return FREE
+    def _flight(self, fc, span):
+        """Free flight from the current state with its bounds built (after a contact)."""
+        return self.model.flight(self.x, self.v, self.y, self.u, fc, self._phase(), span, always_bound=True)
 
     def _snap(self, side):
         """Put the pair exactly on the stop (removes rounding-level overlap)."""

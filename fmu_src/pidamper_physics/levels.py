@@ -18,6 +18,7 @@ import math
 
 from .building_level import BuildingModel
 from .impact import collide, impact_loss
+from .level_model import LevelModel
 from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work
 from .nonlinear import NonlinearModel
@@ -25,10 +26,8 @@ from .params import COUPLED, LEVELS, LINEAR, ParameterError
 from .segments import Flight, Outside, Stick, coast
 
 
-class _Displacements:
+class _Displacements(LevelModel):
     """Shared by the levels whose coordinates are the displacements x, y themselves."""
-
-    reach = math.inf
 
     def displacements(self, x, v, y, u):
         return x, v, y, u
@@ -67,10 +66,10 @@ class LinearModel(_Displacements):
     work = None  # no dashpots: the work of the loads is the energy change (see Damper._move)
 
     def __init__(self, p):
-        self.p = p
+        super().__init__(p)
         self.fastest = max(p.w1, p.w2, p.Omega_acting, math.sqrt((p.w2 ** 2 + p.mu * p.w1 ** 2) / (1.0 + p.mu)))
-        # coast(x, v, y, u, fx, fy, T): the free-flight state after T if no stop is within reach,
-        # else None, without building a Flight (segments.coast); not with the built-in harmonic
+        # coast: segments.coast, measured faster than building a Flight for a piece clear of the
+        # stops (the common piece of a run); not with the built-in harmonic
         self.coast = None if p.F0 else functools.partial(coast, p)
 
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
@@ -117,7 +116,7 @@ class ModalModel(_Displacements):
     """Damped or coupled level: closed form by modes (modal.py, modal_segments.py)."""
 
     def __init__(self, p):
-        self.p = p
+        super().__init__(p)
         self.coupled = p.fidelity == COUPLED
         w1, w2, mu = p.w1, p.w2, p.mu
         cs, cp = 2.0 * p.zeta_s * w2, 2.0 * p.zeta_p * w1  # dashpots per mass of their body

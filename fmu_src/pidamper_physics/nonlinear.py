@@ -23,6 +23,7 @@ integration error.
 """
 import math
 
+from .level_model import LevelModel
 from .rk import dop853_dense, dop853_step, poly_deriv_bound, poly_derivs, poly_eval
 
 RTOL = 1e-12   # relative tolerance of a step
@@ -171,18 +172,24 @@ class NonlinearStick(_Step):
         return g, g1, g2, g3
 
 
-class NonlinearModel:
-    """Level model (see levels.py for the protocol) of the double pendulum at any angle."""
+class NonlinearModel(LevelModel):
+    """Level model (level_model.py) of the double pendulum at any angle."""
 
     piece_weight = 5  # an integrator step costs about five closed-form pieces (Damper.max_pieces)
 
     def __init__(self, p):
-        self.p = p
+        super().__init__(p)
         self.mu, self.L1, self.L2, self.g = p.mu, p.L1, p.L2, p.g
         self.cs, self.cp = 2.0 * p.zeta_s * p.w2, 2.0 * p.zeta_p * p.w1
         self.a, self.om = p.F0 / p.M, p.Omega
         self.fastest = max(p.w1, p.w2, p.Omega_acting) * math.sqrt(1.0 + p.mu)
         self.hint = 0.05 / self.fastest
+
+    def get_state(self):
+        return {"step_hint": self.hint}  # the integrator's next step [s]
+
+    def set_state(self, state):
+        self.hint = state["step_hint"]
 
     def load(self, fx, tau, psi):
         """Horizontal load per primary mass [m/s2]: held fx plus the built-in harmonic at tau."""

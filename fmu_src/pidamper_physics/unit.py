@@ -38,7 +38,8 @@ does with its own relative motion depends on how the host passes the impulse on
 
 Chatter collapses into sticking by the rule of damper.py (a rebound that would rise less than
 CHATTER_HEIGHT position-rounding units while the particle is pressed into the stop ends the
-sequence with a plastic impact: relative velocity to zero, by the mode's law).  Riding a stop:
+sequence with a plastic impact: relative velocity to zero, by the mode's law); the unit steps with
+the event loop of every model (stepping.py).  Riding a stop:
 r = s d, r' = 0; the stop's force on the particle N = m (a_s + w1^2 s d) is constant under held
 a_s, so the particle rides while s N < 0 (pressed: -s a_s > w1^2 d) and is released at the
 step's start otherwise.  Events are located by events.locate (conservative advancement, no
@@ -53,13 +54,9 @@ Plain Python (math): this ships inside the FMU.
 """
 import math
 
-from .damper import CHATTER_HEIGHT, MAX_PIECES
-from .events import CROSS, classify, locate, resolution_speed
 from .params import SCALE_RANGE, ZETA_GAP, ParameterError, check_finite, check_restitution
 from .segments import GAP_RESOLUTION, TOLERANCE, noise_size
-
-FREE = 0
-STICK = 1
+from .stepping import FREE, STICK, EventDriven
 
 MEAN_FORCE = 0
 IMPULSE_AWARE = 1
@@ -72,6 +69,21 @@ DEFAULTS = {"m": 6000.0, "M_s": 1e5, "L1": 1.0, "g": 9.81, "d": 0.05, "e": 0.5, 
 STATE_KEYS = ("t", "r", "rd", "mode", "side", "fresh", "impacts", "dissipated", "F_s", "J_s", "t_J",
               "impacts_in_step")
 _CHOICES = {"mode": (FREE, STICK), "side": (-1, 0, 1), "fresh": (False, True)}
+
+
+class Riding:
+    """The particle riding a stop while pressed into it: it stays there over the piece (the stop's
+    force is constant under held a_s), so the segment has no event (clear)."""
+
+    clear = True
+    reach = math.inf
+    __slots__ = ("state",)
+
+    def __init__(self, r, rd):
+        self.state = (r, rd)
+
+    def positions(self, tau):
+        return self.state
 
 
 class UnitFlight:
@@ -141,7 +153,7 @@ def _positive(name, value):
     return float(value)
 
 
-class DamperUnit:
+class DamperUnit(EventDriven):
     """The particle and its stops, driven by the attachment's acceleration (see the module doc)."""
 
     NAMES = tuple(DEFAULTS)
@@ -177,29 +189,17 @@ class DamperUnit:
         self.impulse_aware = int(impulse_aware)
         self.w = w
         self.mu = m * M_s / (m + M_s)  # reduced mass of the impact law
-        self.t = check_finite("start time", t0)
+        self._start_clock(check_finite("start time", t0))
         self.r, self.rd = r_0, r_dot_0
-        self.mode, self.side, self.fresh = FREE, 0, False
-        self.impacts = 0
         self.dissipated = 0.0
         self.F_s = self.J_s = 0.0
         self.t_J = self.t
         self.impacts_in_step = 0
+        self._clearance = d
         self._max_span = 2.0 * math.pi / w
-        self.max_pieces = math.inf
-        self.pieces = 0
         self.on_impact = None  # optional callback(t, side, J, rd_before, rd_after, loss)
 
     # ---- public API ------------------------------------------------------------------------
-
-    def bound_work(self):
-        """Cap each advance() at damper.MAX_PIECES pieces (fmi2DoStep cannot be interrupted)."""
-        self.max_pieces = MAX_PIECES
-
-    @property
-    def contact(self):
-        """+1 / -1 while the particle rides that stop, else 0."""
-        return self.side if self.mode == STICK else 0
 
     def set_restitution(self, e):
         self.e = check_restitution(e)
@@ -211,52 +211,20 @@ class DamperUnit:
         if total - total != 0.0:
             check_finite("a_s", a_s)
             check_finite("t_end", t_end)
-        t0 = self.t
+        self._check_end(t_end)  # in absolute time, before the clock turns to the call's own
+        t0 = self._t0 = self.t
         h = t_end - t0
-        if h < 0.0:
-            raise ParameterError("t_end", t_end, f"it must be >= the current time {t0!r}")
-        if h > self._max_span * self.max_pieces:
-            raise ParameterError("step", h, f"one call may take at most {self.max_pieces} pieces of at most one "
-                                 f"particle period {self._max_span:.6g} s: take shorter communication steps")
         rd_start = self.rd
         self._sums = [0.0, 0.0, 0.0]  # sum J, sum |J|, sum |J| (t - t0)
         impacts = self.impacts
-        elapsed = 0.0
-        pieces = 0
-        ready = None
-        cap = self.max_pieces
-        while elapsed < h:
-            pieces += 1
-            if pieces > cap:
-                self.t = t0 + elapsed
-                raise ParameterError("step", h, f"it needed more than {cap} pieces by t = {self.t!r} s "
-                                     f"({self.impacts - impacts} impacts among them): take shorter communication steps")
-            remaining = h - elapsed
-            span = min(remaining, self._max_span)
-            if self.mode == STICK:
-                ww, d = self.w * self.w, self.d
-                press = -self.side * a_s - ww * d  # s r'' the free motion would have at the stop
-                if press > TOLERANCE * (abs(a_s) + ww * d):
-                    elapsed = h  # pressed: rides the rest of the step (N is constant under held a_s)
-                    break
-                self.mode, self.side, self.fresh = FREE, 0, True  # released
-                continue
-            seg = ready or self._flight(a_s, span)
-            ready = None
-            if not seg.clear and seg.noise[0] * GAP_RESOLUTION > self.d:
-                raise ParameterError("d", self.d, f"the motion here reaches {seg.noise[0] / TOLERANCE:.6g} m, so the "
-                                     f"gap is known to {seg.noise[0]:.3g} only, more than 1/{GAP_RESOLUTION:g} of the "
-                                     f"clearance: contacts cannot be resolved at t = {t0 + elapsed!r} s")
-            event = locate(seg, span, self.fresh)
-            if event is None:
-                self._move(seg, span)
-                elapsed = h if span == remaining else elapsed + span
-                continue
-            tau, kind, guard = event
-            self._move(seg, tau)
-            elapsed = h if tau >= remaining else elapsed + tau
-            ready = self._handle(kind, 1 - 2 * guard, a_s, min(h - elapsed, self._max_span), t0 + elapsed, t0)
-        self.pieces = pieces
+        # Within a call the clock counts the time elapsed since t0 (the unit's physics is
+        # autonomous: no forcing phase to keep), as earlier builds did, so their outputs hold
+        # bit for bit; a shared absolute clock moves event times by rounding, which impacts amplify.
+        self.t = 0.0
+        try:
+            self._run(h, a_s)
+        finally:
+            self.t = t0 + self.t
         self.t = t_end
         total_j, abs_j, moment = self._sums
         self.J_s = total_j
@@ -294,35 +262,43 @@ class DamperUnit:
         for key in STATE_KEYS:
             setattr(self, key, state[key])
 
-    # ---- internals -------------------------------------------------------------------------
+    # ---- internals (the hooks of stepping.EventDriven) ---------------------------------------
 
-    def _flight(self, a_s, span, always_bound=False):
-        return UnitFlight(self.w, self.zeta_p, self.r, self.rd, -a_s, self.d, span, always_bound)
+    def _fastest_from(self):
+        return ", the particle's pendulum"
 
-    def _move(self, seg, tau):
+    def _unresolved(self, noise):
+        raise ParameterError("d", self.d, f"the motion here reaches {noise / TOLERANCE:.6g} m, so the gap is known "
+                             f"to {noise:.3g} only, more than 1/{GAP_RESOLUTION:g} of the clearance: contacts cannot "
+                             f"be resolved at t = {self._now()!r} s")
+
+    def _segment(self, a_s, span):
+        """Free flight, or riding: the particle rides while pressed into its stop (N constant
+        under held a_s) and is released at the piece's start otherwise."""
+        if self.mode == STICK:
+            ww, d = self.w * self.w, self.d
+            press = -self.side * a_s - ww * d  # s r'' the free motion would have at the stop
+            if press > TOLERANCE * (abs(a_s) + ww * d):
+                return Riding(self.r, self.rd)
+            self._switch(FREE, 0)  # released
+        return UnitFlight(self.w, self.zeta_p, self.r, self.rd, -a_s, self.d, span)
+
+    def _flight(self, a_s, span):
+        return UnitFlight(self.w, self.zeta_p, self.r, self.rd, -a_s, self.d, span, True)
+
+    def _move(self, seg, tau, t_end, a_s, observe):
         self.r, self.rd = seg.positions(tau)
         if tau > 0.0:
             self.fresh = False
+        self.t = self.t + tau if t_end is None else t_end  # the call's elapsed time (see advance)
 
-    def _handle(self, kind, side, a_s, span, t, t0):
-        """A contact on stop `side` at time t: impact (CROSS) or touch; the mode after it.
-        Returns the flight from the new state when the particle stays free, else None."""
+    def _now(self):
+        return self._t0 + self.t
+
+    def _snap(self, side):
         self.r = side * self.d  # exactly on the stop (removes rounding-level overlap)
-        if kind == CROSS:
-            self._impact(side, t, t0)
-        seg = self._flight(a_s, span, always_bound=True)
-        g, g1, g2, g3 = seg.derivs(0.0, 0 if side > 0 else 1)
-        n0, n1, n2, n3 = seg.noise
-        _, first = classify(g1, g2, g3, resolution_speed(g2, n0, n1, n2), n2, n3)
-        chatter_ends = g2 < -n2 and g1 * g1 <= -2.0 * g2 * CHATTER_HEIGHT * n0
-        if chatter_ends or first < 0.0:
-            self._plastic(side, t, t0, counted=kind == CROSS)
-            self.mode, self.side, self.fresh = STICK, side, True
-            return None
-        self.mode, self.side, self.fresh = FREE, 0, True
-        return seg
 
-    def _impact(self, side, t, t0):
+    def _impact(self, side):
         """Newton's two-body law at approach velocity w = r' (see the module doc)."""
         w = self.rd
         m, M_s, e = self.m, self.M_s, self.e
@@ -338,11 +314,11 @@ class DamperUnit:
                 loss = 0.5 * m * w * w * (M_s - m) / M_s
         self.rd = after
         self.impacts += 1
-        self._book(J, loss, t, t0)
+        self._book(J, loss)
         if self.on_impact is not None:
-            self.on_impact(t, side, J, w, after, loss)
+            self.on_impact(self._now(), side, J, w, after, loss)
 
-    def _plastic(self, side, t, t0, counted):
+    def _collapse(self, side, counted):
         """End of a chatter sequence (or a touch's rounding-level speed): relative velocity to zero
         by the mode's plastic law; counted as an impact when the contact was one."""
         w = self.rd
@@ -355,15 +331,16 @@ class DamperUnit:
             J = self.m * w
             loss = 0.5 * self.m * w * w * (self.M_s - self.m) / self.M_s
         self.rd = 0.0
-        self._book(J, loss, t, t0)
+        self._book(J, loss)
         if counted:
             self.impacts += 1
             if self.on_impact is not None:
-                self.on_impact(t, side, J, w, 0.0, loss)
+                self.on_impact(self._now(), side, J, w, 0.0, loss)
 
-    def _book(self, J, loss, t, t0):
+    def _book(self, J, loss):
+        """Book an impulse J [N s] on the structure at the current time and its loss [J]."""
         self.dissipated += loss
         sums = self._sums
         sums[0] += J
         sums[1] += abs(J)
-        sums[2] += abs(J) * (t - t0)
+        sums[2] += abs(J) * (self._now() - self._t0)

@@ -1,0 +1,92 @@
+"""Step cost of the physics core, merge-base against this tree (issue 22, item 8).
+
+    python tools/speed_compare.py --base REV [--runs 5] [--steps 20000]
+
+Each case steps `Damper.advance` over fixed communication steps of 0.01 s, as fmi2DoStep does, and
+reads the outputs the FMU reads every step (observables; a building's floor outputs too).  A run is
+one fresh process importing `pidamper_physics` from one tree; the two trees' runs alternate
+(base, new, base, new, ...) and each figure is the median of `--runs` runs of process CPU time per
+step.  Prints the machine and a table: case, base us/step, new us/step, new/base.
+"""
+import argparse
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+CASES = {
+    "no contact": "dict(d=10.0), (0.0, 0.7 * W2, 0.0, 0.0), 0.0",
+    "impacts (resonance)": "dict(mu=0.02), (0.0, 0.0, 0.0, 0.0), 0.0981",
+    "3-storey building with damper": "dict(storeys=3, fidelity=1, zeta_s=0.05, mu=0.03, FR=1.0, d=0.01), "
+                                     "(0.0, 0.0, 0.0, 0.0), 0.0",
+}
+
+RUNNER = """
+import math, sys, time
+from pidamper_physics.damper import Damper
+from pidamper_physics.params import Params
+W2 = math.sqrt(9.81)
+params, start, F = {case}
+steps = int(sys.argv[1])
+d = Damper(Params(**params), *start)
+d.bound_work()
+h = 0.01
+building = bool(params.get("storeys"))
+t0 = time.process_time()
+for k in range(1, steps + 1):
+    f = F * math.sin(W2 * k * h)
+    a = 3.0 * math.sin(6.0 * k * h) if building else 0.0
+    d.advance(k * h, f, a)
+    d.observables(f, a)
+    if building:
+        d.building_outputs(f, a)
+print((time.process_time() - t0) / steps * 1e6, d.impacts)
+"""
+
+
+def machine():
+    cpu = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
+                if line.startswith("model name")), platform.processor()) if Path("/proc/cpuinfo").exists() else ""
+    return f"{platform.machine()} {cpu}, {os.cpu_count()} cores, Python {platform.python_version()}"
+
+
+def one_run(tree, case, steps):
+    env = dict(os.environ, PYTHONPATH=str(Path(tree) / "fmu_src"))
+    out = subprocess.run([sys.executable, "-c", RUNNER.format(case=CASES[case]), str(steps)], env=env,
+                         capture_output=True, text=True, check=True).stdout.split()
+    return float(out[0]), int(out[1])
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--base", required=True, help="git revision of the old code (e.g. the merge-base)")
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--steps", type=int, default=20000)
+    args = parser.parse_args(argv)
+    with tempfile.TemporaryDirectory() as tmp:
+        base = Path(tmp) / "base"
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(base), args.base], check=True)
+        try:
+            print(f"Machine: {machine()}; {args.steps} steps of 0.01 s, median of {args.runs} interleaved runs, "
+                  "process CPU time\n")
+            print("| case | base us/step | new us/step | new / base | impacts |\n|---|---:|---:|---:|---:|")
+            for case in CASES:
+                old, new = [], []
+                for _ in range(args.runs):
+                    old.append(one_run(base, case, args.steps))
+                    new.append(one_run(ROOT, case, args.steps))
+                if {i for _, i in old} != {i for _, i in new}:
+                    raise SystemExit(f"{case}: the trees disagree on the impacts: {old} {new}")
+                mo, mn = statistics.median(c for c, _ in old), statistics.median(c for c, _ in new)
+                print(f"| {case} | {mo:.2f} | {mn:.2f} | {mn / mo:.3f} | {old[0][1]} |", flush=True)
+        finally:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=True)
+
+
+if __name__ == "__main__":
+    main()
