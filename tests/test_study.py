@@ -68,3 +68,23 @@ def test_frequency_response_without_damper_is_the_undamped_steady_state():
     assert curve[0]["peak_theta_no_damper"] == pytest.approx(F0 / (M * L2 * 0.75 * W2 ** 2), rel=1e-12)
     assert math.isinf(curve[1]["peak_theta_no_damper"])
     assert all(0 < c["peak_theta_damper"] < 1 for c in curve)
+
+
+def test_a_building_point_is_forced_and_measured_at_the_building_s_own_frequency():
+    """A study point with storeys >= 1 forces at Omega_ratio times the building's first natural
+    frequency and measures over its periods (not the pendulum primary's sqrt(g / L2)): the
+    oracle is numpy's generalized eigenvalue of the shear building's K and M."""
+    import numpy as np
+
+    from pidamper.study import _start_values
+
+    masses, k = [2.0e5, 1.5e5, 1.0e5], [9.0e7, 7.0e7, 5.0e7]
+    K = np.diag([k[0] + k[1], k[1] + k[2], k[2]]) - np.diag([k[1], k[2]], 1) - np.diag([k[1], k[2]], -1)
+    w_1 = math.sqrt(min(np.linalg.eigvals(np.linalg.solve(np.diag(masses), K)).real))
+    point = {"storeys": 3, "F0": 1.0e4, "Omega_ratio": 0.9, "mu": 0.02,
+             **{f"floor[{i + 1}].m": m for i, m in enumerate(masses)},
+             **{f"storey[{i + 1}].k": s for i, s in enumerate(k)}}
+    values, w2 = _start_values(point)
+    assert w2 == pytest.approx(w_1, rel=1e-12)
+    assert values["Omega"] == pytest.approx(0.9 * w_1, rel=1e-12)
+    assert abs(w_1 - math.sqrt(9.81)) > 1.0  # the pendulum's frequency would be far off

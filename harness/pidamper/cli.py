@@ -11,6 +11,8 @@ import sys
 import time
 from pathlib import Path
 
+from pidamper_physics import Params
+
 from . import scene as scene_mod
 from .fmu import find_fmu
 from .logged_run import replay, run_logged
@@ -153,7 +155,7 @@ def demo(out_dir="out"):
     p = free_scene.parameters
     a0 = p["theta_dot_0"] / free_scene.w2
     print(f"\nScene free-decay (mu={p['mu']:g}, FR={p['FR']:g}, d={p['d']:g} m, e={p['e']:g}, A0 = {a0:.3g} rad, "
-          f"A0/d = {a0 * p.get('L2', 1.0) / p['d']:.3g}), displacement form:")
+          f"A0/d = {a0 * Params.from_variables(p).L2 / p['d']:.3g}), displacement form:")
     print(f"  average damping ratio, first 5 cycles: {ratios['printed']:.4f} (printed formula), "
           f"{ratios['exact']:.4f} (exact), {ratios['accumulated']:.4f} (accumulated from peak 1)")
     print(f"  peaks theta_m [rad]: {', '.join(f'{pk.theta:.4f}' for pk in peaks)}")

@@ -5,7 +5,6 @@ Rerun recording made from either carry the same data.
 """
 import hashlib
 import importlib.metadata
-import math
 import time
 import uuid
 from pathlib import Path
@@ -87,19 +86,14 @@ def parameters(fmu_path, start_values):
 def geometry(start_values):
     """What the 3D drawing needs: lengths L2, L1 [m], the clearance as a distance [m], w2
     [rad/s] and the fidelity level (from coupled on the particle hangs from the primary's bob)."""
-    if int(start_values.get("storeys", 0)):  # a building: drawn as the pendulums of its theta and alpha
-        from pidamper_physics import Params
+    from pidamper_physics import Params
 
-        integers = ("storeys", "damper_floor", "fidelity", "contact_form")  # the run info holds floats
-        p = Params.from_variables({k: int(v) if k in integers else v for k, v in start_values.items()})
+    integers = ("storeys", "damper_floor", "fidelity", "contact_form")  # the run info holds floats
+    p = Params.from_variables({k: int(v) if k in integers else v for k, v in start_values.items()})
+    if p.storeys:  # a building: drawn as the pendulums of its theta and alpha
         return {"L2": p.L2, "L1": p.L1, "clearance": p.d, "w2": p.w2, "fidelity": 2, "storeys": p.storeys}
-    g = float(start_values.get("g", 9.81))
-    L2 = float(start_values.get("L2", 1.0))
-    FR = float(start_values.get("FR", 5.0))
-    angle_form = int(start_values.get("contact_form", 0)) == 1
-    clearance = L2 * float(start_values.get("d_angle", 0.1)) if angle_form else float(start_values.get("d", 0.1))
-    return {"L2": L2, "L1": L2 / FR ** 2, "clearance": clearance, "w2": math.sqrt(g / L2),
-            "fidelity": int(start_values.get("fidelity", 0))}
+    clearance = p.L2 * p.d_angle if p.contact_form == 1 else p.d  # the angle form's clearance as a distance
+    return {"L2": p.L2, "L1": p.L2 / p.FR ** 2, "clearance": clearance, "w2": p.w2, "fidelity": p.fidelity}
 
 
 def frames(geometry, states):

@@ -78,10 +78,8 @@ def _model_words(message):
 
 
 def resonance(parameters):
-    """Primary natural frequency [rad/s] for the given FMU parameters: w2 = sqrt(g / L2), or a
-    building's first natural frequency w_1 (storeys >= 1)."""
-    if not parameters.get("storeys"):
-        return math.sqrt(parameters.get("g", 9.81) / parameters.get("L2", 1.0))
+    """Primary natural frequency [rad/s] for the given FMU parameters (the model's defaults for
+    those not given): w2 = sqrt(g / L2), or a building's first natural frequency w_1 (storeys >= 1)."""
     return Params.from_variables(parameters).w2
 
 

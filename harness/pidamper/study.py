@@ -28,8 +28,11 @@ import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
+from pidamper_physics import Params
+
 from .fmu import find_fmu
 from .measures import DAMPING_AVERAGES, damping_ratio, max_abs_theta
+from .simulation import resonance
 from .stepper import CoreStepper, FmuStepper
 
 SETTINGS = ("Omega_ratio", "periods")
@@ -54,8 +57,10 @@ def key(point):
 
 
 def _start_values(point):
+    """FMU start values of a point and its primary's natural frequency w2 [rad/s] (a building's
+    first natural frequency when storeys >= 1)."""
     values = {k: v for k, v in point.items() if k not in SETTINGS}
-    w2 = math.sqrt(values.get("g", 9.81) / values.get("L2", 1.0))
+    w2 = resonance(values)
     if values.get("F0", 0.0):
         values["Omega"] = point.get("Omega_ratio", 1.0) * w2
         values.setdefault("theta_dot_0", 0.0)
@@ -211,7 +216,8 @@ def frequency_response(base, ratios, periods=200, settle=150, engine="core", fmu
     undamped steady state F0 / (M L2 |w2^2 - Omega^2|) (infinite at resonance)."""
     out = []
     values, w2 = _start_values({**base, "Omega_ratio": 1.0})
-    M, L2, F0 = values.get("M", 1.0), values.get("L2", 1.0), values["F0"]
+    p = Params.from_variables(values)
+    M, L2, F0 = p.M, p.L2, values["F0"]
     period = 2 * math.pi / w2
     for ratio in ratios:
         v = {**values, "Omega": ratio * w2}

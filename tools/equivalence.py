@@ -1,0 +1,254 @@
+"""Is this tree the same program as an earlier one?  Every output, compared (issue 22, item 6).
+
+    python tools/equivalence.py --base REV [--out FILE.md] [--tolerance 1e-13]
+
+The old tree is checked out at REV (`git worktree add`, removed afterwards).  For each tree:
+
+1. its physics core runs tools/core_cases.py (every fidelity level, both contact forms, chatter to
+   sticking, base excitation, buildings of 1, 3 and 10 storeys, the unit with the shear building,
+   get_state / set_state mid-run) in a process that imports that tree's `pidamper_physics` only;
+2. its own builder builds its FMUs (`python -m build_fmu --out DIR` inside the tree), and fmpy's
+   FMU2Slave drives both builds with identical inputs, reading EVERY output variable after every
+   step: every shipped scene (start values and the input signal from this tree's scene loader, the
+   input held over each step), the paper's cases, buildings of 1, 3 and 10 storeys with the damper,
+   PendulumImpactDamperUnit.fmu co-simulated with ShearBuilding.fmu (one Gauss-Seidel loop, the same
+   for both), and FMU state: get, serialize at a third of the run, finish, de-serialize, finish
+   again; and the OLD build's serialized state de-serialized into the NEW build.
+
+A case is "bit for bit" when every value is equal, "within TOL" when the largest difference is at
+most TOL times the output's peak, else FAIL (exit status 1).  Prints a markdown table.
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import fmpy
+from fmpy.fmi2 import FMU2Slave
+
+ROOT = Path(__file__).resolve().parents[1]
+H = 0.01
+
+
+def tree_env(tree):
+    return dict(os.environ, PYTHONPATH=os.pathsep.join([str(tree / "fmu_src"), str(tree)]))
+
+
+def core_values(tree):
+    """tools/core_cases.py of THIS tree run against `tree`'s physics: {case: rows of reprs}."""
+    done = subprocess.run([sys.executable, str(ROOT / "tools" / "core_cases.py")], env=tree_env(tree),
+                          capture_output=True, text=True, check=True)
+    return json.loads(done.stdout)
+
+
+def build(tree, out):
+    subprocess.run([sys.executable, "-m", "build_fmu", "--out", str(out)], cwd=tree, env=tree_env(tree),
+                   capture_output=True, text=True, check=True)
+    return out
+
+
+class Slave:
+    """One FMU instance stepped by hand; read() returns every output variable."""
+
+    def __init__(self, path, start_values):
+        md = fmpy.read_model_description(str(path))
+        self.vars = {v.name: v for v in md.modelVariables}
+        self.outputs = [v for v in md.modelVariables if v.causality == "output"]
+        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(str(path)),
+                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName="equivalence")
+        self.fmu.instantiate()
+        self.fmu.setupExperiment(startTime=0.0)
+        self.fmu.enterInitializationMode()
+        for name, value in start_values.items():
+            self.set(name, value)
+        self.fmu.exitInitializationMode()
+
+    def set(self, name, value):
+        var = self.vars[name]
+        if var.type == "Integer":
+            self.fmu.setInteger([var.valueReference], [int(value)])
+        else:
+            self.fmu.setReal([var.valueReference], [float(value)])
+
+    def get(self, name):
+        var = self.vars[name]
+        return (self.fmu.getInteger if var.type == "Integer" else self.fmu.getReal)([var.valueReference])[0]
+
+    def read(self):
+        reals = [v.valueReference for v in self.outputs if v.type == "Real"]
+        ints = [v.valueReference for v in self.outputs if v.type != "Real"]
+        return list(self.fmu.getReal(reals)) + [float(i) for i in self.fmu.getInteger(ints)]
+
+    def step(self, k):
+        self.fmu.doStep(currentCommunicationPoint=(k - 1) * H, communicationStepSize=H)
+
+    def close(self):
+        self.fmu.terminate()
+        self.fmu.freeInstance()
+
+
+def scene_cases():
+    """(name, start values, input name or None, input values per step) of every shipped scene, the
+    paper's cases and a 1-storey building, with this tree's scene loader and forcing signals."""
+    sys.path.insert(0, str(ROOT / "harness"))
+    from pidamper import scene as scenes  # this tree's loader: the inputs both builds get
+
+    cases = []
+    for name in sorted(p.stem for p in (ROOT / "scenes").glob("*.toml")):
+        s = scenes.load(name)
+        forcing = s.make_forcing()
+        n = int(round(s.stop_time / s.output_interval))
+        values = {**s.start_values, **forcing.start_values}
+        signal = [float(forcing.value(k * H)) for k in range(n)] if forcing.target else None
+        cases.append((f"scene {name}", values, forcing.target if signal else None, signal, n))
+    w2 = math.sqrt(9.81)
+    for fr in (1.5, 2.0, 4.0, 5.0):  # the paper's free vibration (docs/paper) and its printed contact reading
+        cases.append((f"paper free FR={fr}", {"mu": 0.1, "FR": fr, "theta_dot_0": 0.7 * w2}, None, None, 1000))
+        cases.append((f"paper-reading free FR={fr}", {"mu": 0.1, "FR": fr, "theta_dot_0": 0.7 * w2, "contact_form": 1},
+                      None, None, 1000))
+    for e in (0.2, 0.8):
+        cases.append((f"paper forced FR=2 e={e}", {"mu": 0.02, "FR": 2.0, "e": e, "theta_dot_0": 0.0, "F0": 0.0981,
+                                                    "Omega": w2, "phi": math.pi / 2}, None, None, 2000))
+    building = scenes.load("building-3")
+    one = {k: v for k, v in building.start_values.items()}
+    one["storeys"] = 1
+    ground = building.make_forcing()
+    cases.append(("building 1 storey (building-3 scene's input)", one, ground.target,
+                  [float(ground.value(k * H)) for k in range(1000)], 1000))
+    return cases
+
+
+def run_scene(fmu, values, target, signal, n, serialize_at=None):
+    """Rows of every output after each step; with serialize_at, also the rows of a rerun from the
+    state serialized after that step, and the serialized bytes."""
+    slave = Slave(fmu, values)
+    rows, blob = [], None
+    for k in range(1, n + 1):
+        if target:
+            slave.set(target, signal[k - 1])
+        slave.step(k)
+        rows.append(slave.read())
+        if k == serialize_at:
+            state = slave.fmu.getFMUstate()
+            blob = slave.fmu.serializeFMUstate(state)
+            slave.fmu.freeFMUstate(state)
+    rerun = None
+    if blob is not None:
+        rerun = resume(slave, blob, target, signal, serialize_at, n)
+    slave.close()
+    return rows, rerun, blob
+
+
+def resume(slave, blob, target, signal, k0, n):
+    state = slave.fmu.deSerializeFMUstate(blob)
+    slave.fmu.setFMUstate(state)
+    slave.fmu.freeFMUstate(state)
+    rows = []
+    for k in range(k0 + 1, n + 1):
+        if target:
+            slave.set(target, signal[k - 1])
+        slave.step(k)
+        rows.append(slave.read())
+    return rows
+
+
+def cosim(dist, aware, n=2000):
+    """PendulumImpactDamperUnit on floor 3 of ShearBuilding (3 storeys), Gauss-Seidel: the unit
+    steps with the floor's absolute acceleration, the building with the unit's force (and its
+    impulse when impulse-aware)."""
+    unit = Slave(dist / "PendulumImpactDamperUnit.fmu", {"impulse_aware": aware, "e": 0.8, "d": 0.02})
+    bldg = Slave(dist / "ShearBuilding.fmu", {"storeys": 3, "zeta_s": 0.02})
+    rows = []
+    a_s = 0.0
+    for k in range(1, n + 1):
+        ag = 3.0 * math.sin(6.0 * (k - 1) * H)
+        unit.set("a_s", a_s)
+        unit.step(k)
+        bldg.set("a_g", ag)
+        bldg.set("F[3]", unit.get("F_s"))
+        if aware:
+            bldg.set("J[3]", unit.get("J_s"))
+            bldg.set("t_J[3]", unit.get("t_J"))
+        bldg.step(k)
+        a_s = bldg.get("floor[3].a")
+        rows.append(unit.read() + bldg.read())
+    unit.close()
+    bldg.close()
+    return rows
+
+
+def compare(old, new, tolerance):
+    """(verdict, values compared, max |diff| / peak)."""
+    if isinstance(old, str) or isinstance(new, str):
+        return ("bit for bit" if old == new else "FAIL"), 1, 0.0 if old == new else math.inf
+    if len(old) != len(new) or any(len(a) != len(b) for a, b in zip(old, new)):
+        return "FAIL", 0, math.inf
+    count = sum(len(r) for r in old)
+    if old == new:
+        return "bit for bit", count, 0.0
+    worst = 0.0
+    for c in range(len(old[0])):
+        column = [float(r[c]) for r in old]
+        peak = max(abs(v) for v in column) or 1.0
+        worst = max(worst, max(abs(float(b[c]) - v) for b, v in zip(new, column)) / peak)
+    return ("within tolerance" if worst <= tolerance else "FAIL"), count, worst
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--base", required=True, help="git revision of the old code (e.g. the merge-base)")
+    parser.add_argument("--tolerance", type=float, default=1e-13)
+    parser.add_argument("--out", help="also write the table to this markdown file")
+    args = parser.parse_args(argv)
+    lines = [f"Equivalence of {ROOT.name} against {args.base}: every value after every step; tolerance "
+             f"{args.tolerance:g} of each output's peak.\n", "| case | values | max diff / peak | verdict |",
+             "|---|---:|---:|---|"]
+    failed = False
+
+    def row(name, old, new):
+        nonlocal failed
+        verdict, count, worst = compare(old, new, args.tolerance)
+        failed |= verdict == "FAIL"
+        lines.append(f"| {name} | {count} | {worst:.1e} | {verdict} |")
+        print(lines[-1], flush=True)
+
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        base = tmp / "base"
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(base), args.base], check=True)
+        try:
+            print("\n".join(lines), flush=True)
+            old_core, new_core = core_values(base), core_values(ROOT)
+            for name in old_core:
+                row(f"core: {name}", old_core[name], new_core.get(name, "missing"))
+            dist_old, dist_new = build(base, tmp / "old"), build(ROOT, tmp / "new")
+            fmu = "PendulumImpactDamper.fmu"
+            for name, values, target, signal, n in scene_cases():
+                third = n // 3
+                old, old_rerun, blob = run_scene(dist_old / fmu, values, target, signal, n, third)
+                new, new_rerun, _ = run_scene(dist_new / fmu, values, target, signal, n, third)
+                row(f"FMU: {name}", old, new)
+                row(f"FMU: {name}, rerun from a serialized state", old[third:], new_rerun)
+                slave = Slave(dist_new / fmu, values)
+                try:
+                    crossed = resume(slave, blob, target, signal, third, n)
+                except Exception as err:  # a format change: say so in the table
+                    crossed = f"{type(err).__name__}: {err}"
+                slave.close()
+                row(f"FMU: {name}, old build's state into the new build", old_rerun, crossed)
+            for aware in (0, 1):
+                row(f"FMU: unit + ShearBuilding, impulse_aware={aware}", cosim(dist_old, aware),
+                    cosim(dist_new, aware))
+        finally:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=True)
+    if args.out:
+        Path(args.out).write_text("\n".join(lines) + "\n")
+    sys.exit(1 if failed else 0)
+
+
+if __name__ == "__main__":
+    main()
