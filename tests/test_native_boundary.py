@@ -58,3 +58,44 @@ def test_instance_name_that_is_not_utf8(reference):
     """An ANSI host's Latin-1 name (café): the model runs under it (pythonfmu alone crashed)."""
     unzipped, expected = reference
     assert _run(unzipped, "caf\u00e9") == expected
+
+
+DESERIALIZE_INTO_GARBAGE = r'''
+import ctypes, json, sys, fmpy
+from fmpy.fmi2 import FMU2Slave
+unzipped = sys.argv[1]
+md = fmpy.read_model_description(unzipped + "/modelDescription.xml")
+vr = {v.name: v.valueReference for v in md.modelVariables}
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, modelIdentifier="PendulumImpactDamper", instanceName="a")
+fmu.instantiate()
+fmu.setupExperiment(startTime=0.0); fmu.enterInitializationMode()
+fmu.setReal([vr["theta_dot_0"]], [2.0]); fmu.exitInitializationMode()
+for k in range(100):
+    fmu.doStep(currentCommunicationPoint=k * 0.01, communicationStepSize=0.01)
+state = fmu.getFMUstate()
+blob = fmu.serializeFMUstate(state)
+fmu.freeFMUstate(state)
+theta, = fmu.getReal([vr["theta"]])
+for k in range(100, 150):
+    fmu.doStep(currentCommunicationPoint=k * 0.01, communicationStepSize=0.01)
+out = ctypes.c_void_p(0xDEADBEEF)  # what an uninitialised FMUstate variable of a host may hold
+buf = (ctypes.c_char * len(blob)).from_buffer_copy(blob)
+status = fmu.dll.fmi2DeSerializeFMUstate(fmu.component, buf, ctypes.c_size_t(len(blob)), ctypes.byref(out))
+assert status == 0 and out.value != 0xDEADBEEF, status
+fmu.setFMUstate(out)
+restored, = fmu.getReal([vr["theta"]])
+fmu.freeFMUstate(out); fmu.terminate(); fmu.freeInstance()
+print(json.dumps({"theta": theta, "restored": restored}))
+'''
+
+
+def test_deserialize_neither_reads_nor_frees_what_the_host_left_in_the_state_pointer(reference):
+    """FMUstate is an output of fmi2DeSerializeFMUstate (FMI 2.0): a host may pass an uninitialised
+    variable. The layer used to free what it pointed to (a crash on 0xDEADBEEF); now the state
+    comes back and restores the model's state to the last bit."""
+    unzipped, _ = reference
+    done = subprocess.run([sys.executable, "-c", DESERIALIZE_INTO_GARBAGE, str(unzipped)], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
+    values = json.loads(done.stdout.strip().splitlines()[-1])
+    assert values["restored"] == values["theta"] != 0.0
