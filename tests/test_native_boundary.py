@@ -99,3 +99,62 @@ def test_deserialize_neither_reads_nor_frees_what_the_host_left_in_the_state_poi
     assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
     values = json.loads(done.stdout.strip().splitlines()[-1])
     assert values["restored"] == values["theta"] != 0.0
+
+
+SET_THE_LINK = r'''
+import ctypes, json, sys, fmpy
+from fmpy.fmi2 import FMU2Slave
+unzipped = sys.argv[1]
+md = fmpy.read_model_description(unzipped + "/modelDescription.xml")
+link = max(v.valueReference for v in md.modelVariables) + 1  # the hidden String variable
+count = link  # value references 0 .. link - 1: what the layer would pass
+target = (ctypes.c_double * (count + 1))()  # memory of the host's choosing
+messages = []
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, modelIdentifier="PendulumImpactDamper", instanceName="a")
+fmu.instantiate(loggingOn=True, callbacks=None)
+fmu.fmi2SetDebugLogging(fmu.component, 1, 0, None)
+try:
+    fmu.setString([link], [f"{ctypes.addressof(target):#x} {count}"])
+except Exception as err:
+    messages.append(str(err))
+print(json.dumps({"written": any(target[k] != 0.0 for k in range(count + 1))}))
+fmu.freeInstance()
+'''
+
+
+def test_a_host_cannot_point_the_model_at_its_own_memory_without_the_layer(fmu_path, tmp_path):
+    """Where the native layer is absent (pythonfmu's own binary: Windows, no C compiler), a host
+    can set the hidden link variable; the model takes a link only when the layer vouches for it
+    (sys._pidamper_link), so nothing is written to the address the host names."""
+    from build_fmu import native
+
+    plain = native.without_layer(fmu_path, tmp_path / "plain.fmu")
+    unzipped = fmpy.extract(str(plain), unzipdir=str(tmp_path / "plain"))
+    done = subprocess.run([sys.executable, "-c", SET_THE_LINK, unzipped], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == {"written": False}
+    assert "_native_link" in done.stdout + done.stderr and "set by the FMU's native layer only" in done.stdout + done.stderr
+
+
+ATTACHED = r'''
+import gc, json, sys, fmpy
+from fmpy.fmi2 import FMU2Slave
+path = sys.argv[1]
+md = fmpy.read_model_description(path)
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(path), modelIdentifier=md.coSimulation.modelIdentifier,
+                instanceName="a")
+fmu.instantiate()
+models = [o for o in gc.get_objects() if type(o).__name__ == md.coSimulation.modelIdentifier]
+print(json.dumps({"native": [m._native for m in models], "offer_left": hasattr(sys, "_pidamper_link")}))
+fmu.freeInstance()
+'''
+
+
+@pytest.mark.parametrize("model", ["PendulumImpactDamper", "PendulumImpactDamperUnit", "ShearBuilding"])
+def test_the_layer_still_links_every_model_and_withdraws_its_offer(fmu_path, model):
+    """The vouched link works where the layer is built: each model takes the buffer (its outputs
+    are then served from it), and sys._pidamper_link is gone after fmi2Instantiate."""
+    done = subprocess.run([sys.executable, "-c", ATTACHED, str(fmu_path.parent / f"{model}.fmu")],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == {"native": [True], "offer_left": False}

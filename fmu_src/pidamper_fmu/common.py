@@ -12,6 +12,7 @@ access and the FMI entry points around the model's own `_step` and `_build_core`
 import ctypes
 import math
 import struct
+import sys
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Integer, Real
@@ -123,7 +124,12 @@ class FmiEntry:
 
     def _attach(self, text):
         """The native layer hands over its buffer: 'address n_vars', a double per value reference
-        and one more slot, where the model leaves its id() (the layer then calls _native_step)."""
+        and one more slot, where the model leaves its id() (the layer then calls _native_step).
+        Taken only when the layer vouches for it: it puts the same text in sys._pidamper_link for
+        the call, where no FMI host can put anything (pythonfmu's own binary would pass any text
+        a host sets on the hidden variable)."""
+        if text != getattr(sys, "_pidamper_link", None):
+            raise Refusal(f"{LINK} = {text!r} is not allowed: it is set by the FMU's native layer only")
         try:
             address, count = text.split()
             count = int(count)

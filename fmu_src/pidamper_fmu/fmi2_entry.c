@@ -106,15 +106,17 @@ static struct {
     void (*decref)(PyObject *);
     PyObject *(*getattr)(PyObject *, const char *);
     void (*err_clear)(void);
+    PyObject *(*text_from)(const char *);
+    int (*sys_set)(const char *, PyObject *);
 } py;
 
 static int resolve_python_api(void) {
     void **slots[] = {(void **)&py.gil_ensure, (void **)&py.gil_release, (void **)&py.float_from, (void **)&py.vectorcall,
                       (void **)&py.as_long, (void **)&py.incref, (void **)&py.decref, (void **)&py.getattr,
-                      (void **)&py.err_clear};
+                      (void **)&py.err_clear, (void **)&py.text_from, (void **)&py.sys_set};
     const char *names[] = {"PyGILState_Ensure", "PyGILState_Release", "PyFloat_FromDouble",
                            "PyObject_Vectorcall", "PyLong_AsLong", "Py_IncRef", "Py_DecRef",
-                           "PyObject_GetAttrString", "PyErr_Clear"};
+                           "PyObject_GetAttrString", "PyErr_Clear", "PyUnicode_FromString", "PySys_SetObject"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
         if (!(*slots[k] = dlsym(RTLD_DEFAULT, names[k]))) return 0;
     return 1;
@@ -491,16 +493,33 @@ static void detach(Instance *inst) {
     inst->attached = 0;
 }
 
+/* The link text is also put where only code in the process can put it, sys._pidamper_link, for
+ * the duration of the call: the model takes a link only when the two agree, so a host that sets
+ * the hidden String variable through FMI (possible where this layer is absent: pythonfmu's own
+ * binary) cannot make the model write to an address of its choosing. */
+static int offer_link(const char *text) {
+    PyGILState_STATE gil = py.gil_ensure();
+    PyObject *value = text ? py.text_from(text) : NULL;
+    int ok = (!text || value) && py.sys_set("_pidamper_link", value) == 0;
+    if (!ok) py.err_clear();
+    py.decref(value);
+    py.gil_release(gil);
+    return ok;
+}
+
 static void attach(Instance *inst) {
     char text[64];
     const char *ptr = text;
     fmi2ValueReference vr = VR_LINK;
     uintptr_t id = 0;
     detach(inst);
+    if (!python_api) return; /* no way to vouch for the link: values are read from Python on demand */
     snprintf(text, sizeof text, "%p %d", (void *)inst->real, (int)N_VARS);
     inst->real[N_VARS] = 0.0;
     inst->reported = fmi2OK;
+    if (!offer_link(text)) return;
     fmi2Status s = inner.fmi2SetString(inst->inner, &vr, 1, &ptr);
+    offer_link(NULL);
     inst->attached = s == fmi2OK && inst->reported < fmi2Error;
     if (s == fmi2Fatal) inst->mode = FATAL;
     memcpy(&id, &inst->real[N_VARS], sizeof id);
