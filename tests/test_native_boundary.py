@@ -158,3 +158,42 @@ def test_the_layer_still_links_every_model_and_withdraws_its_offer(fmu_path, mod
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr[-2000:]
     assert json.loads(done.stdout.strip().splitlines()[-1]) == {"native": [True], "offer_left": False}
+
+
+FREE_AFTER_FATAL = r'''
+import gc, json, sys, fmpy
+from fmpy.fmi2 import FMU2Slave
+path = sys.argv[1]
+md = fmpy.read_model_description(path)
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(path), modelIdentifier=md.coSimulation.modelIdentifier,
+                instanceName="a")
+fmu.instantiate()
+model, = [o for o in gc.get_objects() if type(o).__name__ == md.coSimulation.modelIdentifier]
+linked = model._buffer is not None
+
+
+def escapes():
+    raise RuntimeError("a bug: an exception past the model's guard")
+
+
+model.terminate = escapes  # pythonfmu answers fmi2Fatal for an escaped exception
+fmu.setupExperiment(startTime=0.0); fmu.enterInitializationMode(); fmu.exitInitializationMode()
+try:
+    fmu.terminate()
+    status = "ok"
+except Exception as err:
+    status = str(err)
+fmu.freeInstance()
+print(json.dumps({"linked": linked, "status": status, "view_after_free": model._buffer is not None}))
+'''
+
+
+def test_after_a_fatal_error_the_model_forgets_the_buffer_the_layer_frees(fmu_path):
+    """fmi2FreeInstance frees the layer's output buffer; the model must not keep a view of it,
+    after a fatal error too (it used to: its memoryview then pointed into freed memory)."""
+    done = subprocess.run([sys.executable, "-c", FREE_AFTER_FATAL, str(fmu_path)], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    result = json.loads(done.stdout.strip().splitlines()[-1])
+    assert result["linked"] and "(fatal)" in result["status"], result
+    assert result["view_after_free"] is False, result

@@ -146,6 +146,12 @@ class FmiEntry:
     def _attached(self):
         pass
 
+    def _release_link(self):
+        """The native layer is about to free its buffer (fmi2FreeInstance, after a fatal error
+        too): forget it, so that no write can land there after."""
+        self._buffer = None
+        self._native = False
+
     # ---- FMI calls --------------------------------------------------------------------
 
     @guarded(lambda args: None)

@@ -633,18 +633,32 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     return inst;
 }
 
+/* The model forgets the buffer (inst->real) before it is freed: its view must not outlive it.
+ * 1 when the model has no view (any more). */
+static int release_link(Instance *inst) {
+    if (!inst->attached) return 1;
+    if (!inst->model || !python_api) return 0;
+    PyGILState_STATE gil = py.gil_ensure();
+    PyObject *release = py.getattr(inst->model, "_release_link");
+    PyObject *r = release ? py.vectorcall(release, NULL, 0, NULL) : NULL;
+    if (!r) py.err_clear();
+    py.decref(r);
+    py.decref(release);
+    py.gil_release(gil);
+    return r != NULL;
+}
+
 void fmi2FreeInstance(fmi2Component c) {
     Instance *inst = (Instance *)c;
     if (!inst) return;
+    int released = release_link(inst);
+    detach(inst); /* the layer's own references: released once in every mode */
     /* a fatal pythonfmu instance has already released its Python objects once: freeing it again
      * would release them twice (the crash this layer exists to prevent), so it is left as it is */
-    if (inst->mode != FATAL) {
-        detach(inst);
-        inner.fmi2FreeInstance(inst->inner);
-    }
+    if (inst->mode != FATAL) inner.fmi2FreeInstance(inst->inner);
     if (inst->resources_fd >= 0) close(inst->resources_fd);
     free(inst->name);
-    free(inst);
+    if (released) free(inst); /* else the model may still hold a view of inst->real: left allocated */
 }
 
 fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
