@@ -283,10 +283,7 @@ def convergence():
 def test_independent_reference_agrees_with_the_monolithic_core(convergence):
     scn, times, ref, _, _ = convergence
     assert ivp_reference.impacts == 20
-    try:
-        mono = monolithic_reference(scn, times)
-    except TypeError:
-        pytest.skip("the physics core has no building level yet")
+    mono = monolithic_reference(scn, times)
     assert np.max(np.abs(mono - ref)) <= 1e-9 * np.max(np.abs(ref))
 
 
@@ -315,10 +312,7 @@ def test_mean_force_cannot_follow_a_particle_heavier_than_e_M_s_but_impulse_awar
     (documented): its error stalls; the impulse-aware coupling converges."""
     scn = replace(Scenario(), e=0.03)  # m / M_s = 0.06
     times = np.arange(1, 501) * 0.01
-    try:
-        ref = monolithic_reference(scn, times)  # this case sticks: the independent reference cannot
-    except TypeError:
-        pytest.skip("the physics core has no building level yet")
+    ref = monolithic_reference(scn, times)  # this case sticks: the independent reference cannot
     hs = [0.01 / 2 ** p for p in (2, 4, 6)]
     mean = [error(physics_gauss_seidel(scn, h, "mean")[0], scn, 0.01, ref) for h in hs]
     aware = [error(physics_gauss_seidel(scn, h, "impulse")[0], scn, 0.01, ref) for h in hs]
@@ -371,9 +365,7 @@ def test_ssp_and_osp_files_describe_the_coupled_system_and_run_in_libcosim(fmus,
              for c in root.iterfind(".//ssd:Connection", ns)}
     assert links == {("building", "floor[3].a", "unit", "a_s"), ("unit", "F_s", "building", "F[3]"),
                      ("unit", "J_s", "building", "J[3]"), ("unit", "t_J", "building", "t_J[3]")}
-    cosim = pytest.importorskip("libcosimpy", reason="libcosimpy (Open Simulation Platform) is not installed")
-    assert cosim
-    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimExecution import CosimExecution  # a test dependency (pyproject): no skip
     from libcosimpy.CosimObserver import CosimObserver
 
     ex = CosimExecution.from_ssp_file(str(tmp_path / "DamperOnBuilding-impulse.ssp"), step_size=1_000_000)

@@ -38,14 +38,12 @@ def fmpy_run(fmu_path, values, times, forces=None):
 
 
 def test_libcosim_two_instances_and_a_manipulated_force(fmu_path):
-    cosim = pytest.importorskip("libcosimpy", reason="libcosimpy (Open Simulation Platform) is not installed")
-    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimExecution import CosimExecution  # a test dependency (pyproject): no skip
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimManipulator import CosimManipulator
     from libcosimpy.CosimObserver import CosimObserver
     from libcosimpy.CosimSlave import CosimLocalSlave
 
-    assert cosim
     log_output_level(CosimLogLevel.ERROR)
     md = fmpy.read_model_description(str(fmu_path))
     vr = {v.name: v.valueReference for v in md.modelVariables}
@@ -78,8 +76,7 @@ def test_libcosim_two_instances_and_a_manipulated_force(fmu_path):
 def test_fmu_container_runtime(fmu_path, tmp_path):
     """fmu-manipulation-toolbox wraps the FMU in its C container runtime; fmpy runs the container."""
     tool = shutil.which("fmucontainer") or str(Path(sys.executable).with_name("fmucontainer"))
-    if not Path(tool).exists():
-        pytest.skip("fmu-manipulation-toolbox (fmucontainer) is not installed")
+    assert Path(tool).exists(), "fmu-manipulation-toolbox (a test dependency) installs fmucontainer"
     shutil.copy2(fmu_path, tmp_path / "PendulumImpactDamper.fmu")
     (tmp_path / "damper.csv").write_text("rule;from_fmu;from_port;to_fmu;to_port\n"
                                          "FMU;PendulumImpactDamper.fmu;;;\n"
@@ -106,8 +103,7 @@ def test_fmu_container_runtime(fmu_path, tmp_path):
 def test_checkers_pass(fmu_path, model):
     """Every FMU `python -m build_fmu` builds passes fmutool's and fmpy's checks."""
     tool = shutil.which("fmutool") or str(Path(sys.executable).with_name("fmutool"))
-    if not Path(tool).exists():
-        pytest.skip("fmu-manipulation-toolbox (fmutool) is not installed")
+    assert Path(tool).exists(), "fmu-manipulation-toolbox (a test dependency) installs fmutool"
     path = fmu_path.with_name(f"{model}.fmu")
     done = subprocess.run([tool, "-input", str(path), "-check"], capture_output=True, text=True)
     text = done.stdout + done.stderr
