@@ -22,6 +22,7 @@ demo: setup
 	$(BIN)/pidamper demo
 
 test: setup
+	$(BIN)/lint-imports
 	$(BIN)/python -m pytest
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet --site-dir $(VENV)/site-check
 

@@ -12,13 +12,13 @@ import zipfile
 from pathlib import Path
 from xml.etree import ElementTree
 
+from .locate import sources
+
 _KIND = {"input": "i", "output": "o", "local": "l"}
 
 
 def source():
     """The C source, beside the model's adapter (fmu_src/pidamper_fmu or its installed copy)."""
-    from .builder import sources
-
     return sources()[0].with_name("fmi2_entry.c")
 
 

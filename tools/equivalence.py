@@ -98,7 +98,7 @@ def scene_cases():
     from pidamper import scene as scenes  # this tree's loader: the inputs both builds get
 
     cases = []
-    for name in sorted(p.stem for p in (ROOT / "scenes").glob("*.toml")):
+    for name in sorted(p.stem for p in (ROOT / "harness" / "pidamper" / "scenes").glob("*.toml")):
         s = scenes.load(name)
         forcing = s.make_forcing()
         n = int(round(s.stop_time / s.output_interval))

@@ -50,6 +50,7 @@ from pidamper_physics import Params
 
 from . import fragility, ground_motion, spectra
 from .forcing import Forcing
+from .machine import cpu_model
 from .scene import FIDELITY, fmu_values
 from .study import Table, add_runner_arguments, run_table
 
@@ -454,7 +455,7 @@ def write_page(study, rows, fits, risks, out, command, wall, workers):
                    f"the power law lambda(IM) = k0 IM^-k with k0 = {hazard['k0']:.4g}, k = {hazard['k']:g} "
                    f"(IM in {study.unit})")
     lines = [f"# Assessment: {study.name}", "", study.description, "",
-             f"Written by `{command}` on {platform.machine()} ({_cpu()}), Python {platform.python_version()}: "
+             f"Written by `{command}` on {platform.machine()} ({cpu_model()}), Python {platform.python_version()}: "
              f"{len(rows)} runs ({len(study.records)} records x {len(study.levels)} levels x {len(confs)} "
              f"configurations), {wall:.0f} s wall on {workers} worker(s), {cpu.mean():.2f} s CPU per run "
              f"(median {np.median(cpu):.2f} s). The cost on 1 and 2 workers and its extrapolation to larger "
@@ -488,14 +489,6 @@ def write_page(study, rows, fits, risks, out, command, wall, workers):
               "[m], impacts, CPU [s]).", "", "## The study file", "", "```toml", study.text.strip(), "```", "",
               "## The command", "", "```sh", command, "```", ""]
     (out / "README.md").write_text("\n".join(lines))
-
-
-def _cpu():
-    try:
-        with open("/proc/cpuinfo") as handle:
-            return next(line.split(":", 1)[1].strip() for line in handle if line.startswith("model name"))
-    except (OSError, StopIteration):
-        return platform.processor() or "unknown CPU"
 
 
 def assess(study_path, out="assessment", engine="fmu", workers=None, dask=False, scheduler=None, fmu=None,

@@ -1,7 +1,7 @@
 """Scenes: small TOML files that say everything a run needs.
 
     pidamper run free-decay              # a shipped scene, by name
-    pidamper run scenes/resonance.toml   # a scene file
+    pidamper run my-scene.toml          # a scene file
     pidamper run resonance --periods 40  # any option of `pidamper run` overrides its field
 
 Fields (every one optional but [forcing].kind):

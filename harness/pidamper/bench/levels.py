@@ -26,7 +26,7 @@ from pidamper_physics.params import LEVELS
 
 from ..fmu import find_fmu
 from ..simulation import run as run_fmu
-from .workprecision import machine
+from ..machine import describe
 
 W2 = math.sqrt(9.81)
 AMPLITUDES = (0.01, 0.03, 0.1, 0.2, 0.4, 0.7, 1.0)
@@ -106,7 +106,7 @@ def write(rows, out, repeats=3):
         w.writerows(rows)
     _plot(rows, out / "levels-error.png")
     lines = ["# Model error of each fidelity level against `nonlinear`, and its cost", "",
-             f"Machine: {machine()}. Command: `pidamper bench --levels --repeats {repeats}` (module `pidamper.bench.levels`; "
+             f"Machine: {describe('fmpy')}. Command: `pidamper bench --levels --repeats {repeats}` (module `pidamper.bench.levels`; "
              "the scene family is described in its docstring).", "",
              "CPU columns: best of the repeats, process time; core = the physics alone "
              "(`Damper.advance`), fmpy = the FMU's step loop under `fmpy.simulate_fmu` with its outputs "

@@ -15,7 +15,6 @@ relative to d. Failures (stalls, budget exhausted, crashes) are results and list
 import argparse
 import csv
 import math
-import platform
 import time
 from pathlib import Path
 
@@ -23,6 +22,7 @@ import fmpy
 import numpy as np
 
 from ..fmu import find_fmu
+from ..machine import describe
 from ..measures import max_abs_theta
 from ..stepper import CoreStepper
 from . import metrics
@@ -310,27 +310,13 @@ def report(out, cases):
             r["impacts"] = int(r["impacts"]) if r["impacts"] not in ("", None) else None
             rows.append(r)
     old = (out / "workprecision.md").read_text().splitlines()
-    machine_line = old[0][len("Machine: "):] if old and old[0].startswith("Machine: ") else machine()
+    machine_line = old[0][len("Machine: "):] if old and old[0].startswith("Machine: ") else describe("fmpy")
     present = [c for c in cases if any(r["case"] == c.name for r in rows)]
     write_table(rows, out, machine_line, present)
     for case in present:
         plot(rows, case, out)
     print(f"rewrote {out}/workprecision.md and {len(present)} plots from {out}/workprecision.csv")
     return 0
-
-
-def machine():
-    import os
-    cpu = "unknown CPU"
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return (f"{os.cpu_count()}-core {platform.machine()} {cpu}, Python {platform.python_version()}, "
-            f"fmpy {fmpy.__version__}")
 
 
 def main(argv=None):
@@ -365,7 +351,7 @@ def main(argv=None):
         for r in bench.rows:
             if r["method"] == "reference":
                 r["failure"] = f"RK4+bisection agrees to {bench.agreement:.1e}"
-        write_table(rows, out, machine(), [c for c in chosen if any(r["case"] == c.name for r in rows)])
+        write_table(rows, out, describe("fmpy"), [c for c in chosen if any(r["case"] == c.name for r in rows)])
         plot(rows, case, out)
     print(f"wrote {out}/workprecision.csv, .md and workprecision-*.png")
     return 0

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import assess
+from ..machine import cpu_model
 
 #: the larger study the figures are extrapolated to (a FEMA P-695-size far-field set: 22 pairs = 44
 #: records, 20 stripes, with and without the damper)
@@ -42,7 +43,7 @@ def report(study, results):
     return f"""# Cost of the shipped assessment
 
 `{study}` run from scratch ({n} runs: records x stripes x configurations), the FMU through fmpy on
-a local process pool. Measured on {platform.machine()} ({assess._cpu()}, {os.cpu_count()} cores), Python
+a local process pool. Measured on {platform.machine()} ({cpu_model()}, {os.cpu_count()} cores), Python
 {platform.python_version()}, by `python -m pidamper.benchmarks.assess_scaling` (this page is its output).
 
 | workers | wall [s] | CPU per run [s] (mean) | wall per run [s] |

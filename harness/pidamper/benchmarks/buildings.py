@@ -5,7 +5,6 @@ without the damper.  Writes docs/buildings/README.md (this module holds its pros
 """
 import argparse
 import math
-import platform
 import time
 from pathlib import Path
 
@@ -17,6 +16,7 @@ from pidamper_physics.building import ShearBuilding
 
 from .. import scene as scene_mod
 from ..bench.building_reference import simulate
+from ..machine import describe
 from ..simulation import run
 
 MASSES = [1.0e5, 1.2e5, 0.9e5, 1.1e5, 1.0e5, 0.8e5, 1.3e5, 1.0e5, 0.9e5, 1.2e5]
@@ -124,13 +124,8 @@ def scene_figures(name):
             "cpu": res.cpu_time / (len(d) - 1) * 1e6}
 
 
-def machine():
-    return (f"{platform.machine()} {platform.processor() or ''}".strip() + f", {platform.python_implementation()} "
-            f"{platform.python_version()}")
-
-
 def report():
-    lines = [HEADER.format(machine=machine()), "## Accuracy against independent oracles", "",
+    lines = [HEADER.format(machine=describe()), "## Accuracy against independent oracles", "",
              "| check | measured |", "|---|---:|"]
     for n, zeta in ((3, 0.0), (3, 0.05), (10, 0.0), (10, 0.05)):
         lines.append(f"| bare {n}-storey building, zeta_s = {zeta:g}: floors vs `scipy.linalg.expm` (200 times to "

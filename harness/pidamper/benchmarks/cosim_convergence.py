@@ -19,8 +19,6 @@ Writes OUT/cosim-convergence.png, OUT/cosim-convergence.csv and OUT/README.md, a
 """
 import argparse
 import csv
-import os
-import platform
 import sys
 import time
 from dataclasses import replace
@@ -29,26 +27,10 @@ from pathlib import Path
 import numpy as np
 
 from .. import cosim
+from ..machine import describe
 
 MASTERS = ("mean", "impulse", "impulse-extrapolated", "libcosim", "libcosim-impulse")
 PLASTIC_MASTERS = ("mean", "impulse", "impulse-extrapolated", "libcosim")
-
-
-def machine():
-    model = ""
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    import fmpy
-    from libcosimpy import __about__
-
-    return (f"{os.cpu_count()}-core {platform.machine()} ({model or platform.processor()}), "
-            f"{platform.python_implementation()} {platform.python_version()}, fmpy {fmpy.__version__}, "
-            f"libcosimpy {getattr(__about__, '__version__', '?')}")
 
 
 def run_master(scn, h, master, fmus):
@@ -165,7 +147,7 @@ def main(argv=None):
     cross_text = (f"{cross:.1e}" if isinstance(cross, float) else f"not available ({cross})")
     plastic_cross_text = (f"{plastic_cross:.1e}" if isinstance(plastic_cross, float)
                           else f"not available: {plastic_cross}")
-    report = README.format(machine=machine(), command=" ".join(["python -m pidamper.benchmarks.cosim_convergence"]
+    report = README.format(machine=describe("fmpy", "libcosimpy"), command=" ".join(["python -m pidamper.benchmarks.cosim_convergence"]
                                                                  + (argv if argv is not None else sys.argv[1:])),
                            main_table=main_table, plastic_table=plastic_table, source=source, cross=cross_text,
                            plastic_source=plastic_source, plastic_cross=plastic_cross_text, ref_wall=ref_wall,

@@ -11,8 +11,6 @@ OUT/step-cost.md and prints it.
 """
 import argparse
 import math
-import os
-import platform
 import subprocess
 import sys
 import sysconfig
@@ -23,6 +21,7 @@ from pathlib import Path
 import fmpy
 
 from ..fmu import find_fmu
+from ..machine import describe
 from . import floor
 from .impact_cost import CASES as IMPACT_CASES, cost_per_impact
 
@@ -70,17 +69,6 @@ def python_speed():
     return min(timeit.repeat("sum(range(1000))", number=2000, repeat=5)) / 2000 * 1e6
 
 
-def machine():
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as handle:
-            cpu = next(line.split(":", 1)[1].strip() for line in handle if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return (f"{os.cpu_count()}-core {platform.machine()} {cpu}, Python {platform.python_version()}, "
-            f"fmpy {fmpy.__version__}")
-
-
 def measure(args, tmp):
     damper = find_fmu(args.fmu)
     from build_fmu.native import without_layer
@@ -126,7 +114,7 @@ def report(args, fmpy_rows, host_rows, impact_rows):
     lines = [
         "# Step cost: the damper FMU as hosts see it",
         "",
-        f"Measured on {machine()}; the machine ran `sum(range(1000))` in {python_speed():.1f} us. {args.steps} steps "
+        f"Measured on {describe('fmpy')}; the machine ran `sum(range(1000))` in {python_speed():.1f} us. {args.steps} steps "
         f"of {args.h} s, minimum of {args.repeats} runs, process CPU time. Written by "
         "`python -m pidamper.benchmarks.step_cost"
         f" --steps {args.steps} --repeats {args.repeats}` (this page is its output).",
