@@ -18,7 +18,9 @@ state), `_flight(loads, span)` (free flight from the current state, bounds alway
 `_move(seg, tau, t_end, loads, observe)` (take the state at tau and book it; tick the clock with
 `_tick`), `_snap(side)`, `_impact(side)`, `_collapse(side, counted)`, `_unresolved(noise)` and the
 attributes `_clearance` [m] (the gap's half-width the guards measure), `_max_span` [s] (longest
-piece: one period of the fastest motion) and `_passes_through` (angle form).
+piece: one period of the fastest motion) and `_passes_through` (angle form); a model with a
+segment-free free flight sets `_coaster` and provides `_coast(state, tau, t_end)` (Damper's linear
+level: measured faster than building a segment for the pieces clear of the stops).
 
 Progress: a pass either ends the call (the piece reaches t_end), moves the state by a whole span
 (at most h / _max_span such passes), or moves it to an event and handles it.  An event switches
