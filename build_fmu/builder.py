@@ -1,16 +1,14 @@
 """Assemble the model script and the renamed physics package, then call pythonfmu."""
 import hashlib
-import importlib.util
 import re
 import shutil
 import tempfile
 import uuid
 from pathlib import Path
 
+from .locations import ADAPTER, PHYSICS, native_source, sources
+
 MODEL_NAME = "PendulumImpactDamper"
-PHYSICS = "pidamper_physics"
-ADAPTER = "pidamper_fmu"
-_REPO_SRC = Path(__file__).resolve().parent.parent / "fmu_src"
 
 #: the component FMUs built beside PendulumImpactDamper: model name -> its adapter module
 COMPONENTS = {"PendulumImpactDamperUnit": "unit_slave", "ShearBuilding": "building_slave"}
@@ -33,15 +31,6 @@ from {adapter}.{module} import {model}  # noqa: E402,F401
 '''
 
 
-def sources():
-    """(model script, physics package dir): the repository's fmu_src/ or the installed packages."""
-    if (_REPO_SRC / PHYSICS / "__init__.py").is_file():
-        return _REPO_SRC / "pidamper_fmu" / "slave.py", _REPO_SRC / PHYSICS
-    physics = Path(importlib.util.find_spec(PHYSICS).origin).parent
-    slave = Path(importlib.util.find_spec("pidamper_fmu").origin).parent / "slave.py"
-    return slave, physics
-
-
 def _physics_files(physics_dir):
     return sorted(p for p in physics_dir.rglob("*.py") if "__pycache__" not in p.parts)
 
@@ -55,7 +44,7 @@ def source_hash(model=MODEL_NAME):
     digest = hashlib.sha256(pythonfmu.__version__.encode() + SHIM.encode())
     if model != MODEL_NAME:
         digest.update(COMPONENT_SHIM.encode() + model.encode() + b"\0")
-    for path in adapter_files(model) + [slave.with_name("fmi2_entry.c")] + _physics_files(physics):
+    for path in adapter_files(model) + [native_source()] + _physics_files(physics):
         rel = path.name if path.parent == slave.parent else path.relative_to(physics).as_posix()
         digest.update(rel.encode() + b"\0" + path.read_bytes() + b"\0")
     return digest.hexdigest()[:12]
