@@ -910,8 +910,7 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
     }
     saved->mode = (enum Mode)head.mode;
     saved->time = head.time;
-    if (*FMUstate) fmi2FreeFMUstate(c, FMUstate);
-    *FMUstate = saved;
+    *FMUstate = saved; /* an output (FMI 2.0): what the host's variable held is never read nor freed */
     return s;
 }
 
