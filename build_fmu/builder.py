@@ -6,10 +6,9 @@ import tempfile
 import uuid
 from pathlib import Path
 
-from .locate import PHYSICS, sources
+from .locations import ADAPTER, PHYSICS, native_source, sources
 
 MODEL_NAME = "PendulumImpactDamper"
-ADAPTER = "pidamper_fmu"
 
 #: the component FMUs built beside PendulumImpactDamper: model name -> its adapter module
 COMPONENTS = {"PendulumImpactDamperUnit": "unit_slave", "ShearBuilding": "building_slave"}
@@ -45,7 +44,7 @@ def source_hash(model=MODEL_NAME):
     digest = hashlib.sha256(pythonfmu.__version__.encode() + SHIM.encode())
     if model != MODEL_NAME:
         digest.update(COMPONENT_SHIM.encode() + model.encode() + b"\0")
-    for path in adapter_files(model) + [slave.with_name("fmi2_entry.c")] + _physics_files(physics):
+    for path in adapter_files(model) + [native_source()] + _physics_files(physics):
         rel = path.name if path.parent == slave.parent else path.relative_to(physics).as_posix()
         digest.update(rel.encode() + b"\0" + path.read_bytes() + b"\0")
     return digest.hexdigest()[:12]

@@ -12,14 +12,9 @@ import zipfile
 from pathlib import Path
 from xml.etree import ElementTree
 
-from .locate import sources
+from .locations import native_source
 
 _KIND = {"input": "i", "output": "o", "local": "l"}
-
-
-def source():
-    """The C source, beside the model's adapter (fmu_src/pidamper_fmu or its installed copy)."""
-    return sources()[0].with_name("fmi2_entry.c")
 
 
 def _c_string(text):
@@ -79,7 +74,7 @@ def compile_layer(description_xml, model_id, out, **overrides):
         (Path(tmp) / "model_table.h").write_text(model_table(description_xml, f"{model_id}_pythonfmu.so", **overrides))
         cmd = [compiler, "-shared", "-fPIC", "-O2", "-Wall", "-Wextra", "-Werror", "-Wno-unused-parameter",
                "-I", tmp, "-I", str(Path(fmpy.__file__).parent / "c-code"), "-I", sysconfig.get_paths()["include"],
-               "-o", str(out), str(source()), "-ldl", "-lpthread"]
+               "-o", str(out), str(native_source()), "-ldl", "-lpthread"]
         done = subprocess.run(cmd, capture_output=True, text=True)
         if done.returncode != 0:
             raise RuntimeError(f"compiling the native layer failed:\n{done.stderr}")

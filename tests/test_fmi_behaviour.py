@@ -183,25 +183,22 @@ def test_arbitrary_step_sequences(fmu_path, unzipped):
             assert row[0] == pytest.approx(direct[t][0], abs=1e-12) and row[3] == direct[t][3]
 
 
-def test_identity_follows_the_sources(fmu_path, tmp_path):
+def test_identity_follows_the_sources(fmu_path, tmp_path, monkeypatch):
     md = fmpy.read_model_description(str(fmu_path))
     tag = source_hash()
     assert md.guid == expected_guid(tag) and md.version.endswith("+" + tag)
     assert md.coSimulation.needsExecutionTool is False or md.coSimulation.needsExecutionTool == "false"
     # a one-character change of a shipped source gives another hash (hence GUID and version)
-    import build_fmu.builder as builder
+    import build_fmu.locations as locations
 
-    slave, physics = builder.sources()
+    slave, physics = locations.sources()
     copy = tmp_path / "fmu_src"
     shutil.copytree(slave.parents[1], copy)
+    monkeypatch.setattr(locations, "_REPO_SRC", copy)
+    assert source_hash() == tag  # the copy hashes as the original
     target = copy / "pidamper_physics" / "impact.py"
     target.write_text(target.read_text() + "\n")
-    original = builder._REPO_SRC
-    builder._REPO_SRC = copy
-    try:
-        assert builder.source_hash() != tag
-    finally:
-        builder._REPO_SRC = original
+    assert source_hash() != tag
 
 
 def test_documentation_and_reference_result(fmu_path):

@@ -21,6 +21,7 @@ W2 = math.sqrt(9.81)
 FREE = {"theta_dot_0": 0.7 * W2}
 OTHER = {"FR": 2.0, "e": 0.5, "d": 0.05, "theta_dot_0": 1.0}
 C_HOST = Path(__file__).parent / "c_host" / "host.c"
+STATE_HOST = C_HOST.with_name("state_host.c")
 
 
 def fmpy_run(fmu_path, values, times, forces=None):
@@ -111,13 +112,13 @@ def test_checkers_pass(fmu_path, model):
     assert fmpy.validation.validate_fmu(str(path)) == []
 
 
-def _compile_host(tmp_path):
+def _compile_host(tmp_path, source=C_HOST):
     compiler = shutil.which("gcc") or shutil.which("cc")
     if not compiler:
         pytest.skip("no C compiler")
     headers = Path(fmpy.__file__).parent / "c-code"
-    exe = tmp_path / "host"
-    subprocess.run([compiler, "-Wall", "-Werror", "-I", str(headers), "-o", str(exe), str(C_HOST), "-ldl"],
+    exe = tmp_path / source.stem
+    subprocess.run([compiler, "-Wall", "-Wextra", "-Werror", "-I", str(headers), "-o", str(exe), str(source), "-ldl"],
                    check=True)
     return exe
 
@@ -206,6 +207,21 @@ def test_c_host_with_libpython_preloaded(fmu_path, tmp_path):
         pytest.skip(f"this Python has no shared libpython ({BUILD_LIBPYTHON})")
     theta, impacts, _ = _run_host(exe, fmu_path, tmp_path, {**PLAIN_ENV, "LD_PRELOAD": str(BUILD_LIBPYTHON)})
     assert (theta, impacts) == _fmpy_reference(fmu_path)  # same interpreter: bit for bit
+
+
+def test_c_host_restores_a_state_into_a_variable_it_never_initialised(fmu_path, tmp_path):
+    """fmi2DeSerializeFMUstate's FMUstate is an output (FMI 2.0): a C host passes a variable holding
+    0xdeadbeef.  The layer writes the new state there without reading or freeing what it held (it
+    used to free it: SIGSEGV), and the run from the restored state repeats the first bit for bit."""
+    exe = _compile_host(tmp_path, STATE_HOST)
+    md = fmpy.read_model_description(str(fmu_path))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    done = subprocess.run([str(exe), str(_unzipped(fmu_path, tmp_path)), md.guid, str(vr["theta_dot_0"]),
+                           repr(FREE["theta_dot_0"]), str(vr["theta"]), "150", "0.01"],
+                          capture_output=True, text=True, env=PLAIN_ENV, timeout=120)
+    assert done.returncode == 0, f"exit {done.returncode}: {done.stderr[-2000:]}"
+    status, first, again = done.stdout.split()
+    assert status == "0" and float(first) == float(again) and float(first) != 0.0
 
 
 def _oldest_shared_python():

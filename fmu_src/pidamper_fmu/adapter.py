@@ -5,9 +5,9 @@ ShearBuilding), with the FMI entry points of common.py (shared with PendulumImpa
   `<instance>: <name> = <value> is not allowed: <rule>` logged at error level; no exception reaches
   pythonfmu when the native layer is there (it answers fmi2Error), as in slave.py;
 - the FMU's native layer (fmi2_entry.c, compiled per model from its modelDescription by build_fmu)
-  sits in front of pythonfmu's binary: this class takes its buffer through the hidden String
-  variable _native_link (the last value reference), writes every output and local variable into it
-  after each step, and offers _native_step; the layer then answers reads without entering Python;
+  sits in front of pythonfmu's binary: this class makes its own buffer when the layer asks
+  (common.py), writes every output and local variable into it after each step, and offers
+  _native_step; the layer then answers reads without entering Python;
 - fixed parameters may be set again after initialization to their current value only; `tunable`
   ones go to the core through `_tune`;
 - the FMU state is a JSON-safe dict of every parameter and input, the start time, the
@@ -20,12 +20,12 @@ feedthrough input names) and implements _build_core(), _advance(core, t_end), _c
 """
 import struct
 
-from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Real, String
+from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Real
 
 from pidamper_physics import ParameterError
 from pidamper_physics.params import check_finite
 
-from .common import LINK, FmiEntry, Refusal, describe, guarded
+from .common import FmiEntry, Refusal, describe, guarded
 
 
 class ComponentSlave(FmiEntry, Fmi2Slave):
@@ -59,9 +59,7 @@ class ComponentSlave(FmiEntry, Fmi2Slave):
                                         variability=Fmi2Variability.continuous if kind is Real
                                         else Fmi2Variability.discrete,
                                         getter=self._computed_getter(k)), nested=False)
-        self._native_link = ""
-        self.register_variable(String(LINK, causality=Fmi2Causality.local, variability=Fmi2Variability.discrete,
-                                      getter=lambda: self._native_link, setter=self._attach), nested=False)
+        self._register_link()
         self._offset = 8 * first
         self._pack = struct.Struct(f"={len(self.COMPUTED)}d")
         self._state_keys = frozenset(list(self._values) + ["_t0", "_initialized", "_core"])

@@ -5,17 +5,18 @@ access and the FMI entry points around the model's own `_step` and `_build_core`
 - Bad input is refused with `<instance>: <name> = <value> is not allowed: <rule>` at error level;
   with the native layer (fmi2_entry.c) no exception reaches pythonfmu (the layer answers
   fmi2Error); without it the exception propagates (pythonfmu answers fmi2Fatal).
-- The native layer hands over its buffer through the hidden String variable LINK (the last value
-  reference, left out of modelDescription.xml); the model writes its outputs there after each step
-  and the layer answers reads without entering Python.
+- The native layer finds the model through the hidden String variable LINK (the last value
+  reference, left out of modelDescription.xml, read only: the model's id()) and calls its
+  `_native_attach` directly, which no FMI function reaches: the model makes its own buffer, writes
+  its outputs there after each step, and the layer answers reads from it without entering Python.
+  No host can make the model write anywhere else, with the layer or without it (pythonfmu's own
+  binary passes every value reference to the model: set_string refuses them all).
 """
 import ctypes
 import math
-import struct
-import sys
 from xml.etree.ElementTree import Element, SubElement
 
-from pythonfmu import Integer, Real
+from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.enums import Fmi2Status
 
 from pidamper_physics import ParameterError
@@ -26,7 +27,7 @@ UNITS = {"s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "m": {"m": 1}, "m/s2": {"m": 1
 
 TIME_TOLERANCE = 1e-9  # relative mismatch of a step's start time accepted from a host
 
-LINK = "_native_link"  # hidden String variable (last value reference, not in modelDescription.xml)
+LINK = "_native_link"  # hidden read-only String: the model's id() (last value reference, not in modelDescription.xml)
 
 
 class Refusal(ValueError):
@@ -97,7 +98,8 @@ def describe(root, info, outputs):
 class FmiEntry:
     """Mixin (before Fmi2Slave) of the FMI entry points every adapter shares.  The model keeps
     `_core`, `_initialized`, `_native`, `_t0` and provides `_build_core()` and `_step(t, h)`;
-    `_attached()` runs once the native layer's buffer is in place."""
+    it registers LINK last (`_register_link`); `_attached()` runs once its buffer for the native
+    layer is in place."""
 
     _t0 = 0.0
 
@@ -122,35 +124,31 @@ class FmiEntry:
 
     # ---- the native layer's buffer --------------------------------------------------------
 
-    def _attach(self, text):
-        """The native layer hands over its buffer: 'address n_vars', a double per value reference
-        and one more slot, where the model leaves its id() (the layer then calls _native_step).
-        Taken only when the layer vouches for it: it puts the same text in sys._pidamper_link for
-        the call, where no FMI host can put anything (pythonfmu's own binary would pass any text
-        a host sets on the hidden variable)."""
-        if text != getattr(sys, "_pidamper_link", None):
-            raise Refusal(f"{LINK} = {text!r} is not allowed: it is set by the FMU's native layer only")
+    def _register_link(self):
+        """LINK, after every other variable: read only, its value is the model's id() in hex."""
+        self.register_variable(String(LINK, causality=Fmi2Causality.local, variability=Fmi2Variability.discrete,
+                                      getter=lambda: f"{id(self):x}"), nested=False)
+
+    def _native_attach(self, count):
+        """Called by the native layer directly (no FMI function reaches it), with its number of
+        variables: the model makes its buffer, a double per value reference that the model object
+        keeps, writes its outputs there after each step from now on (the layer then calls
+        _native_step), and returns the buffer's address; 0, with a message, if it refuses."""
         try:
-            address, count = text.split()
-            count = int(count)
-        except ValueError:
-            raise Refusal(f"{LINK} = {text!r} is not allowed: it is set by the FMU's native layer only")
-        if count != len(self.vars) - 1:
-            raise Refusal(f"{LINK}: the native layer has {count} variables, the model {len(self.vars) - 1} "
-                          "(binaries of another build)")
-        self._buffer = memoryview((ctypes.c_double * (count + 1)).from_address(int(address, 16))).cast("B")
-        struct.pack_into("=Q", self._buffer, 8 * count, id(self))
-        self._native = True
-        self._attached()
+            if count != len(self.vars) - 1:
+                raise Refusal(f"{LINK}: the native layer has {count} variables, the model {len(self.vars) - 1} "
+                              "(binaries of another build)")
+            array = (ctypes.c_double * count)()
+            self._buffer = memoryview(array).cast("B")
+            self._native = True
+            self._attached()
+            return ctypes.addressof(array)
+        except Exception as err:
+            self._report(err)
+            return 0
 
     def _attached(self):
         pass
-
-    def _release_link(self):
-        """The native layer is about to free its buffer (fmi2FreeInstance, after a fatal error
-        too): forget it, so that no write can land there after."""
-        self._buffer = None
-        self._native = False
 
     # ---- FMI calls --------------------------------------------------------------------
 
@@ -239,12 +237,20 @@ class FmiEntry:
         for var, value in zip(self._checked(vrs, Integer), values):
             var.setter(value)
 
+    def get_string(self, vrs):
+        """LINK's value (the native layer reads it); any other value reference is refused at error
+        level, never raised (as set_string)."""
+        for vr in vrs:
+            var = self.vars.get(vr)
+            if var is None or var.name != LINK:
+                self._report(Refusal(f"value reference {vr} is not allowed: the model has no other String variable"))
+                return [""] * len(vrs)
+        return [self.vars[vr].getter() for vr in vrs]
+
     def set_string(self, vrs, values):
-        """Only the native layer sets a String (its link); a failure is logged, never raised."""
-        try:
-            for vr, value in zip(vrs, values):
-                if self.vars.get(vr) is None or self.vars[vr].name != LINK:
-                    raise Refusal(f"value reference {vr} is not allowed: the model has no String variable")
-                self._attach(value)
-        except Exception as err:
-            self._report(err)
+        """The model has no String variable a host can set (LINK is read only; only pythonfmu's own
+        binary lets a call get here): refused at error level, never raised (pythonfmu's binary
+        answers an exception with fmi2Fatal, and its fmi2FreeInstance then crashes the host)."""
+        if vrs:
+            self._report(Refusal(f"value reference {vrs[0]} is not allowed: the model has no String variable "
+                                 "that can be set"))

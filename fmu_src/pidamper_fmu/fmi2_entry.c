@@ -15,9 +15,12 @@
  *   reaches Python.  Refusals the model makes (it logs at error level) become fmi2Error too.
  *   An instance that reached fmi2Fatal (a Python exception escaped the model) answers
  *   fmi2Fatal to everything and is released without touching its Python objects again.
- * - Outputs.  After each fmi2DoStep the model writes every output and local variable into this
- *   layer's buffer (one pass in Python); fmi2GetReal/fmi2GetInteger then answer from the buffer
- *   without entering Python.  Parameters are read from Python once and cached until set.
+ * - Outputs.  After each fmi2DoStep the model writes every output and local variable into its
+ *   buffer (one pass in Python); fmi2GetReal/fmi2GetInteger then answer from that buffer without
+ *   entering Python.  Parameters are read from Python once and cached until set.  The buffer is
+ *   the model's own (a ctypes array the model object keeps), handed over by a direct call no FMI
+ *   function reaches: a host cannot point the model at memory of its choosing, with or without
+ *   this layer, and no view into memory this layer frees outlives an instance.
  * - Steps.  fmi2DoStep calls the model's step method directly (one Python call); the model's
  *   messages still travel through pythonfmu's log queue, flushed when there are any.
  * - Messages reach the host's logger as a "%s" argument, never as a format, when the host turned
@@ -79,11 +82,13 @@ typedef struct {
     int logging_on;
     fmi2Status reported; /* worst status the model logged during the current call */
     double time;
-    /* the buffer the model writes into after each step, a double per value reference (Integer
-     * values too: converted into `integer` here), and what of it is current */
+    /* a double per value reference (Integer values too: converted into `integer` here): the
+     * model's buffer, which it writes after each step, while attached (the reference to `model`
+     * keeps it alive), else `own`; and what of it is current */
     int attached;
     PyObject *model, *step; /* the Python model object and its _native_step (owned references) */
-    double real[N_VARS + 1]; /* real[N_VARS]: where the model leaves its id() when it attaches */
+    double *real;
+    double own[N_VARS];
     fmi2Integer integer[N_VARS];
     int volatile_valid[2];  /* [Real, Integer] outputs and locals are current */
     unsigned char fixed_valid[N_VARS]; /* parameters and inputs read from Python and not set since */
@@ -95,30 +100,32 @@ typedef struct {
     double time;
 } SavedState;
 
-/* The few Python C-API functions the direct step needs, from the runtime in the process. */
+/* The few Python C-API functions the buffer and the direct step need, from the runtime in the
+ * process (PyObject_Vectorcall, Python 3.9 and later, for the direct step only). */
 static struct {
     PyGILState_STATE (*gil_ensure)(void);
     void (*gil_release)(PyGILState_STATE);
     PyObject *(*float_from)(double);
-    PyObject *(*vectorcall)(PyObject *, PyObject *const *, size_t, PyObject *);
+    PyObject *(*call_method)(PyObject *, const char *, const char *, ...);
+    void *(*as_pointer)(PyObject *);
     long (*as_long)(PyObject *);
     void (*incref)(PyObject *);
     void (*decref)(PyObject *);
     PyObject *(*getattr)(PyObject *, const char *);
     void (*err_clear)(void);
-    PyObject *(*text_from)(const char *);
-    int (*sys_set)(const char *, PyObject *);
+    PyObject *(*vectorcall)(PyObject *, PyObject *const *, size_t, PyObject *);
 } py;
 
 static int resolve_python_api(void) {
-    void **slots[] = {(void **)&py.gil_ensure, (void **)&py.gil_release, (void **)&py.float_from, (void **)&py.vectorcall,
-                      (void **)&py.as_long, (void **)&py.incref, (void **)&py.decref, (void **)&py.getattr,
-                      (void **)&py.err_clear, (void **)&py.text_from, (void **)&py.sys_set};
-    const char *names[] = {"PyGILState_Ensure", "PyGILState_Release", "PyFloat_FromDouble",
-                           "PyObject_Vectorcall", "PyLong_AsLong", "Py_IncRef", "Py_DecRef",
-                           "PyObject_GetAttrString", "PyErr_Clear", "PyUnicode_FromString", "PySys_SetObject"};
+    void **slots[] = {(void **)&py.gil_ensure, (void **)&py.gil_release, (void **)&py.float_from,
+                      (void **)&py.call_method, (void **)&py.as_pointer, (void **)&py.as_long, (void **)&py.incref,
+                      (void **)&py.decref, (void **)&py.getattr, (void **)&py.err_clear};
+    const char *names[] = {"PyGILState_Ensure", "PyGILState_Release", "PyFloat_FromDouble", "PyObject_CallMethod",
+                           "PyLong_AsVoidPtr", "PyLong_AsLong", "Py_IncRef", "Py_DecRef", "PyObject_GetAttrString",
+                           "PyErr_Clear"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
         if (!(*slots[k] = dlsym(RTLD_DEFAULT, names[k]))) return 0;
+    *(void **)&py.vectorcall = dlsym(RTLD_DEFAULT, "PyObject_Vectorcall");
     return 1;
 }
 static int python_api = 0;
@@ -480,61 +487,52 @@ static fmi2Status allowed(Instance *inst, unsigned mask, const char *function) {
     { fmi2Status s_ = allowed(inst, (mask), (function)); if (s_ != fmi2OK) return s_; } \
     inst->reported = fmi2OK;
 
-/* Give the model its buffer: after each step it writes every output and local variable there.
- * If the model does not take it, values are read from Python on demand (slower, same values). */
+/* Leave the model's buffer (values are read from Python again, into `own`) before releasing
+ * the model that owns it. */
 static void detach(Instance *inst) {
-    if (inst->model && python_api) {
+    inst->real = inst->own;
+    inst->attached = 0;
+    invalidate(inst);
+    if (inst->model) {
         PyGILState_STATE gil = py.gil_ensure();
         py.decref(inst->step);
         py.decref(inst->model);
         py.gil_release(gil);
     }
     inst->model = inst->step = NULL;
-    inst->attached = 0;
 }
 
-/* The link text is also put where only code in the process can put it, sys._pidamper_link, for
- * the duration of the call: the model takes a link only when the two agree, so a host that sets
- * the hidden String variable through FMI (possible where this layer is absent: pythonfmu's own
- * binary) cannot make the model write to an address of its choosing. */
-static int offer_link(const char *text) {
-    PyGILState_STATE gil = py.gil_ensure();
-    PyObject *value = text ? py.text_from(text) : NULL;
-    int ok = (!text || value) && py.sys_set("_pidamper_link", value) == 0;
-    if (!ok) py.err_clear();
-    py.decref(value);
-    py.gil_release(gil);
-    return ok;
-}
-
+/* Take the model's buffer: the model's id() is the value of its hidden String (read only), and
+ * its _native_attach, called directly, makes the buffer and returns its address; from then on
+ * the model writes every output and local variable there after each step.  If that fails, values
+ * are read from Python on demand (slower, same values). */
 static void attach(Instance *inst) {
-    char text[64];
-    const char *ptr = text;
     fmi2ValueReference vr = VR_LINK;
-    uintptr_t id = 0;
+    fmi2String text = NULL;
+    char *end = NULL;
     detach(inst);
-    if (!python_api) return; /* no way to vouch for the link: values are read from Python on demand */
-    snprintf(text, sizeof text, "%p %d", (void *)inst->real, (int)N_VARS);
-    inst->real[N_VARS] = 0.0;
+    if (!python_api) return;
     inst->reported = fmi2OK;
-    if (!offer_link(text)) return;
-    fmi2Status s = inner.fmi2SetString(inst->inner, &vr, 1, &ptr);
-    offer_link(NULL);
-    inst->attached = s == fmi2OK && inst->reported < fmi2Error;
+    fmi2Status s = inner.fmi2GetString(inst->inner, &vr, 1, &text);
     if (s == fmi2Fatal) inst->mode = FATAL;
-    memcpy(&id, &inst->real[N_VARS], sizeof id);
-    if (inst->attached && id && python_api) { /* the model object is alive: pythonfmu holds it */
-        PyGILState_STATE gil = py.gil_ensure();
-        inst->model = (PyObject *)id;
-        py.incref(inst->model);
-        inst->step = py.getattr(inst->model, "_native_step");
-        if (!inst->step) {
-            py.err_clear();
-            py.decref(inst->model);
-            inst->model = NULL;
-        }
-        py.gil_release(gil);
+    uintptr_t id = s == fmi2OK && text ? (uintptr_t)strtoull(text, &end, 16) : 0;
+    if (!id || *end) return;
+    PyGILState_STATE gil = py.gil_ensure();
+    PyObject *model = (PyObject *)id; /* alive: pythonfmu holds it */
+    PyObject *address = py.call_method(model, "_native_attach", "n", (Py_ssize_t)N_VARS);
+    double *buffer = address ? (double *)py.as_pointer(address) : NULL;
+    py.err_clear();
+    py.decref(address);
+    if (buffer) {
+        py.incref(model);
+        inst->model = model;
+        inst->step = py.vectorcall ? py.getattr(model, "_native_step") : NULL;
+        py.err_clear();
+        inst->real = buffer;
+        inst->attached = 1;
     }
+    py.gil_release(gil);
+    if (!buffer) inner.fmi2GetReal(inst->inner, NULL, 0, NULL); /* pythonfmu logs the model's message */
 }
 
 /* fmi2DoStep as one Python call: 0 done, 1 done with messages queued, 2 refused (message queued).
@@ -609,6 +607,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
         return NULL;
     }
     inst->resources_fd = -1;
+    inst->real = inst->own;
     if (strstr(resources, "%20")) { /* pythonfmu turns a literal "%20" in a path into a space */
         inst->resources_fd = open(resources, O_PATH | O_DIRECTORY | O_CLOEXEC);
         if (inst->resources_fd >= 0) snprintf(resources, sizeof resources, "/proc/self/fd/%d", inst->resources_fd);
@@ -633,32 +632,19 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     return inst;
 }
 
-/* The model forgets the buffer (inst->real) before it is freed: its view must not outlive it.
- * 1 when the model has no view (any more). */
-static int release_link(Instance *inst) {
-    if (!inst->attached) return 1;
-    if (!inst->model || !python_api) return 0;
-    PyGILState_STATE gil = py.gil_ensure();
-    PyObject *release = py.getattr(inst->model, "_release_link");
-    PyObject *r = release ? py.vectorcall(release, NULL, 0, NULL) : NULL;
-    if (!r) py.err_clear();
-    py.decref(r);
-    py.decref(release);
-    py.gil_release(gil);
-    return r != NULL;
-}
-
 void fmi2FreeInstance(fmi2Component c) {
     Instance *inst = (Instance *)c;
     if (!inst) return;
-    int released = release_link(inst);
-    detach(inst); /* the layer's own references: released once in every mode */
     /* a fatal pythonfmu instance has already released its Python objects once: freeing it again
-     * would release them twice (the crash this layer exists to prevent), so it is left as it is */
-    if (inst->mode != FATAL) inner.fmi2FreeInstance(inst->inner);
+     * would release them twice (the crash this layer exists to prevent), so it is left as it is,
+     * and so is our reference to the model, which keeps the model's buffer alive with it */
+    if (inst->mode != FATAL) {
+        detach(inst);
+        inner.fmi2FreeInstance(inst->inner);
+    }
     if (inst->resources_fd >= 0) close(inst->resources_fd);
     free(inst->name);
-    if (released) free(inst); /* else the model may still hold a view of inst->real: left allocated */
+    free(inst);
 }
 
 fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
@@ -943,7 +929,7 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
     }
     saved->mode = (enum Mode)head.mode;
     saved->time = head.time;
-    *FMUstate = saved; /* an output (FMI 2.0): what the host left there is neither read nor freed */
+    *FMUstate = saved; /* an output (FMI 2.0): what the host's variable held is never read nor freed */
     return s;
 }
 

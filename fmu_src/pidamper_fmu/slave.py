@@ -12,7 +12,7 @@ acts on the damper floor and the building starts at rest (theta_0 and theta_dot_
 
 The FMU's native layer (fmi2_entry.c, binaries/linux64/<id>.so) sits in front of pythonfmu's binary:
 it enforces the calling sequence and answers reads from a buffer this class fills after each step
-(_push; the buffer arrives through the hidden String variable _native_link).  Bad input (invalid
+(_push; the buffer is the model's own, handed to the layer by a direct call: common.py).  Bad input (invalid
 parameter, non-finite input, inconsistent step) is refused with a message naming the variable, its
 value and what is allowed, logged at error level: the layer then answers fmi2Error.  No exception
 reaches pythonfmu (it would answer fmi2Fatal and release Python objects it still uses); without the
@@ -23,7 +23,7 @@ import math
 import struct
 import uuid
 
-from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real, String
+from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer, Real
 from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
@@ -31,7 +31,7 @@ from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, Damper, ParameterError,
 from pidamper_physics.params import (FLOOR_MASS, MAX_STOREYS, NONLINEAR, STOREY_STIFFNESS, check_finite,
                                      check_restitution)
 
-from .common import LINK, FmiEntry, Refusal, describe, fmi_text, guarded
+from .common import FmiEntry, Refusal, describe, fmi_text, guarded
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
@@ -187,9 +187,7 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
         self._record_in_buffer = True  # the buffer may hold a non-zero record: write it at the next push
         for k, (name, kind, *_) in enumerate(RECORD):
             self._register_computed(name, kind, Fmi2Causality.local, (lambda k=k: self._record_values[k]))
-        self._native_link = ""
-        self.register_variable(String(LINK, causality=Fmi2Causality.local, variability=Fmi2Variability.discrete,
-                                      setter=self._attach))
+        self._register_link()
         vr = {var.name: vr for vr, var in self.vars.items()}
         self._offsets = (8 * vr[OUTPUTS[0][0]], 8 * vr[RECORD[0][0]])
 
