@@ -49,6 +49,7 @@ import numpy as np
 from pidamper_physics import Params
 
 from . import fragility, ground_motion, spectra
+from .errors import FieldError
 from .forcing import Forcing
 from .machine import cpu_model
 from .scene import FIDELITY, fmu_values
@@ -71,11 +72,8 @@ DEMANDS = ("drift_ratio", "drift_storey", "floor_accel", "stroke", "impacts", "c
 MEASURES = ("Sa", "PGA", "PGV")
 
 
-class StudyError(ValueError):
+class StudyError(FieldError):
     """A study field with a value that is not allowed."""
-
-    def __init__(self, source, name, value, allowed):
-        super().__init__(f"{source}: {name} = {value!r} is not allowed: {allowed}")
 
 
 @dataclass

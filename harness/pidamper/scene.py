@@ -28,6 +28,7 @@ from pathlib import Path
 from pidamper_physics.params import LEVELS, MAX_STOREYS
 
 from . import forcing as forcing_mod
+from .errors import FieldError
 from .mcap_log import TOPICS as MCAP_TOPICS
 from .rerun_log import VIEWS as RERUN_VIEWS
 from .simulation import OUTPUTS, building_outputs, resonance
@@ -56,11 +57,8 @@ RUN_KEYS = ("stop_time", "periods", "output_interval", "fidelity")
 LOG_KEYS = ("mcap", "rrd", "mcap_topics", "rerun_views")
 
 
-class SceneError(ValueError):
+class SceneError(FieldError):
     """A scene field with a value that is not allowed."""
-
-    def __init__(self, source, name, value, allowed):
-        super().__init__(f"{source}: {name} = {value!r} is not allowed: {allowed}")
 
 
 @dataclass
