@@ -191,7 +191,7 @@ A 1-storey building reproduces the `coupled` level: floor mass `M`, storey stiff
 particle's weight, so its pendulum's stiffness is `(M + m) g / L2`; `FR` and `zeta_s` refer to the
 frequency `sqrt(g / L2)` there and to `w_1 = sqrt((1 + mu) g / L2)` here).
 
-Measured on {machine}, 2-core AMD EPYC class machine. Written by
+Measured on {machine}. Written by
 `python -m pidamper.benchmarks.buildings` (this page is its output); tests: `tests/test_building.py`.
 """
 
