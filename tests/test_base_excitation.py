@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from pidamper import forcing
-from pidamper.bench.cases import Case
-from pidamper.bench.odesolvers import IvpSolver
+from pidamper.oracles.cases import Case
+from pidamper.oracles.odesolvers import IvpSolver
 from pidamper_physics import Damper, Params
 
 W2 = math.sqrt(9.81)
@@ -29,7 +29,7 @@ def test_constant_ground_acceleration_without_contact_is_the_closed_form():
 @pytest.mark.parametrize("e", [0.2, 0.8])
 def test_base_excitation_with_impacts_and_sticking_against_an_independent_solver(e):
     """A free decay on a ground accelerating at 3 m/s2: DOP853 at rtol 1e-12 with the same
-    impact, stick and release rules (pidamper.bench.odesolvers) as the oracle."""
+    impact, stick and release rules (pidamper.oracles.odesolvers) as the oracle."""
     case = Case("ground", "ground", e=e, theta_dot_0=0.5 * W2, periods=4, ground=3.0)
     ref = IvpSolver(case, "DOP853", 1e-12, logic=True, budget=120).solve(case.horizon)
     grid = np.linspace(0.0, case.horizon, 801)

@@ -1,6 +1,6 @@
 """The damper on a shear building (storeys >= 1), checked against independent oracles:
 scipy.linalg.expm of the bare building's state matrix, an event-driven solve_ivp integration with
-its own impact and stick logic (pidamper/bench/building_reference.py), and the `coupled` level it must
+its own impact and stick logic (pidamper/oracles/building_reference.py), and the `coupled` level it must
 reproduce at one storey.  (That the pendulum levels are unchanged by any change is tools/equivalence.py's
 to show, against the revision it names; their oracles are in test_levels.py and test_nonlinear.py.)"""
 import math
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from pidamper.bench.building_reference import simulate
+from pidamper.oracles.building_reference import simulate
 from pidamper_physics import Damper, ParameterError, Params
 from pidamper_physics.building import ShearBuilding
 
@@ -239,5 +239,5 @@ def test_fmu_building_outputs_follow_the_core(fmu_path):
 def test_fmu_refuses_a_bad_building_by_name(fmu_path, values, expected):
     from pidamper import isolated
 
-    text = isolated.call("pidamper.bench.fatal_checks:bad_values", str(fmu_path), values)
+    text = isolated.call("pidamper.benchmarks.fatal_checks:bad_values", str(fmu_path), values)
     assert text is not None and expected in text and "not allowed" in text and "status 3 (error)" in text

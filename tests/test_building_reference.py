@@ -6,7 +6,7 @@ import pytest
 import scipy.linalg
 from scipy.optimize import brentq
 
-from pidamper.bench.building_reference import simulate
+from pidamper.oracles.building_reference import simulate
 
 MASSES = [2.0e3, 1.8e3, 1.5e3]
 STIFF = [4.0e5, 3.5e5, 3.0e5]

@@ -159,14 +159,14 @@ BAD_PARAMETERS = [("g", 0.0, "g = 0.0"), ("M", -1.0, "M = -1.0"), ("mu", -0.5, "
 
 @pytest.mark.parametrize("name,value,expected", BAD_PARAMETERS)
 def test_invalid_parameter_is_an_fmi_error_with_its_message(fmu_path, name, value, expected):
-    text = isolated.call("pidamper.bench.fatal_checks:bad_parameter", str(fmu_path), name, value)
+    text = isolated.call("pidamper.benchmarks.fatal_checks:bad_parameter", str(fmu_path), name, value)
     assert text is not None, f"{name} = {value} was accepted"
     assert expected in text and "not allowed" in text and "status 3 (error)" in text
 
 
 @pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf")])
 def test_non_finite_input_is_refused(fmu_path, value):
-    result = isolated.call("pidamper.bench.fatal_checks:bad_input", str(fmu_path), value)
+    result = isolated.call("pidamper.benchmarks.fatal_checks:bad_input", str(fmu_path), value)
     assert result["error"] is not None and f"F = {value!r}" in result["error"] and "finite" in result["error"]
 
 
@@ -174,7 +174,7 @@ def test_non_finite_input_is_refused(fmu_path, value):
 def test_host_misuse_is_refused(fmu_path, action):
     """A step back in time, a step from the wrong time, a fixed parameter after initialization,
     a tunable parameter out of range: each an FMI error."""
-    assert isolated.call("pidamper.bench.fatal_checks:host_misuse", str(fmu_path), action) is True
+    assert isolated.call("pidamper.benchmarks.fatal_checks:host_misuse", str(fmu_path), action) is True
 
 
 def test_last_bit_time_mismatch_is_accepted(fmu_path):

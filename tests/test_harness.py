@@ -156,6 +156,6 @@ def test_agrees_with_independent_prototypes_of_the_physics_notes():
 def test_a_run_failing_half_way_keeps_its_rows(fmu_path):
     """A force that turns non-finite at t = 1 s: the FMU refuses that step, and the rows
     before it come back with the error (in a child process: the FMU fails with fmi2Fatal)."""
-    result = isolated.call("pidamper.bench.fatal_checks:bad_input", str(fmu_path), float("inf"))
+    result = isolated.call("pidamper.benchmarks.fatal_checks:bad_input", str(fmu_path), float("inf"))
     assert "F = inf is not allowed" in result["error"]
     assert result["last_time"] == pytest.approx(1.0) and result["rows"] == 21 and result["finite"]

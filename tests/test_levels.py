@@ -8,8 +8,8 @@ import pytest
 from scipy.integrate import quad
 from scipy.linalg import expm
 
-from pidamper.bench.cases import Case
-from pidamper.bench.levels_ref import LevelIvpSolver
+from pidamper.oracles.cases import Case
+from pidamper.oracles.levels_ref import LevelIvpSolver
 from pidamper_physics import Damper, ParameterError, Params
 
 W2 = math.sqrt(9.81)
@@ -182,7 +182,7 @@ def test_bench_levels_writes_its_report(fmu_path, tmp_path):
     """`pidamper bench --levels` at one amplitude: every level's FMU makes the core's impacts
     (measure refuses otherwise), the report holds a row per level with the costs, and the
     nonlinear level is its own reference."""
-    from pidamper.bench import levels
+    from pidamper.benchmarks import levels
 
     rows = levels.measure(amplitudes=(0.1,), repeats=1, fmu=fmu_path)
     levels.write(rows, tmp_path, repeats=1)

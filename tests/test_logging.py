@@ -141,7 +141,7 @@ def test_impacts_beyond_the_record_are_counted_and_said(fmu_path, tmp_path):
 
 
 def test_failed_run_keeps_readable_logs(fmu_path, tmp_path):
-    error = isolated.call("pidamper.bench.fatal_checks:logged_failure", str(fmu_path), str(tmp_path))
+    error = isolated.call("pidamper.benchmarks.fatal_checks:logged_failure", str(fmu_path), str(tmp_path))
     assert error is not None and "F = inf is not allowed" in error
     info, states, _, notes = read_run(tmp_path / "run.mcap")
     assert states["time"][-1] == pytest.approx(1.0) and np.isfinite(states["theta"]).all()

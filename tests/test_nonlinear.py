@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from pidamper.bench.nonlinear_ref import NonlinearReference, sample
+from pidamper.oracles.nonlinear_ref import NonlinearReference, sample
 from pidamper_physics import Damper, Params
 
 W2 = math.sqrt(9.81)

@@ -17,7 +17,7 @@ def test_scales_that_overflow_are_refused_naming_them(values):
 @pytest.mark.parametrize("name, value", [("mu", 8e305), ("g", 1e308)])
 def test_the_fmu_refuses_them_instead_of_looping(fmu_path, name, value):
     """mu = 8e305 or g = 1e308 made the largest frequency inf and fmi2DoStep loop forever."""
-    text = isolated.call("pidamper.bench.fatal_checks:bad_parameter", str(fmu_path), name, value)
+    text = isolated.call("pidamper.benchmarks.fatal_checks:bad_parameter", str(fmu_path), name, value)
     assert text is not None and "float arithmetic cannot hold" in text and "status 3 (error)" in text
 
 

@@ -1,4 +1,4 @@
-"""Hard-case stability suite through the FMU (pidamper.bench.stress), each under a time limit.
+"""Hard-case stability suite through the FMU (pidamper.benchmarks.stress), each under a time limit.
 
 The quick sizes run always; the full sizes (10^4 periods at resonance, 10^5 impacts, 10^6
 steps) are marked slow: `make test` runs them, `make test-fast` leaves them out.
@@ -7,7 +7,7 @@ compares statistics of a run and a twin perturbed by 1e-12, not trajectories.
 """
 import pytest
 
-from pidamper.bench.stress import CASES
+from pidamper.benchmarks.stress import CASES
 
 
 @pytest.mark.timeout(120)

@@ -105,7 +105,7 @@ def test_a_restored_state_keeps_the_once_per_run_promise(fmu_path):
 
 
 def test_instance_names_with_printf_conversions_reach_the_log_intact(fmu_path):
-    text = isolated.call("pidamper.bench.fatal_checks:percent_in_instance_name", str(fmu_path))
+    text = isolated.call("pidamper.benchmarks.fatal_checks:percent_in_instance_name", str(fmu_path))
     assert "damper%s%n%d: mu = -1.0 is not allowed" in text
 
 

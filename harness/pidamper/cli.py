@@ -200,7 +200,7 @@ def _run_scene(sc, fmu, out):
 
 
 def _bench(rest):
-    from .bench.workprecision import main as bench_main
+    from .benchmarks.workprecision import main as bench_main
     return bench_main(rest)
 
 
@@ -229,7 +229,7 @@ def _study(rest):
 
 
 def _stress(rest):
-    from .bench.stress import main as stress_main
+    from .benchmarks.stress import main as stress_main
     return stress_main(rest)
 
 

@@ -15,7 +15,7 @@ from pidamper_physics import Damper, Params
 from pidamper_physics.building import ShearBuilding
 
 from .. import scene as scene_mod
-from ..bench.building_reference import simulate
+from ..oracles.building_reference import simulate
 from ..machine import describe
 from ..simulation import run
 

@@ -106,7 +106,7 @@ def write(rows, out, repeats=3):
         w.writerows(rows)
     _plot(rows, out / "levels-error.png")
     lines = ["# Model error of each fidelity level against `nonlinear`, and its cost", "",
-             f"Machine: {describe('fmpy')}. Command: `pidamper bench --levels --repeats {repeats}` (module `pidamper.bench.levels`; "
+             f"Machine: {describe('fmpy')}. Command: `pidamper bench --levels --repeats {repeats}` (module `pidamper.benchmarks.levels`; "
              "the scene family is described in its docstring).", "",
              "CPU columns: best of the repeats, process time; core = the physics alone "
              "(`Damper.advance`), fmpy = the FMU's step loop under `fmpy.simulate_fmu` with its outputs "

@@ -26,8 +26,8 @@ from ..machine import describe
 from ..measures import max_abs_theta
 from ..stepper import CoreStepper
 from . import metrics
-from .cases import CASES
-from .odesolvers import IvpSolver, Rk4Solver, Stall
+from ..oracles.cases import CASES
+from ..oracles.odesolvers import IvpSolver, Rk4Solver, Stall
 
 IVP_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 RTOLS = (1e-3, 1e-6, 1e-9, 1e-12)

@@ -264,13 +264,13 @@ def bad_input(fmu, quick=False):
 
     found = []
     for name, value in (("M", float("nan")), ("L2", -1.0), ("d", 0.0), ("e", 1.2), ("g", float("inf"))):
-        text = isolated.call("pidamper.bench.fatal_checks:bad_parameter", str(fmu), name, value)
+        text = isolated.call("pidamper.benchmarks.fatal_checks:bad_parameter", str(fmu), name, value)
         found.append("ok" if text and f"{name} = " in text else f"{name}={value}: {text}")
     for value in (float("nan"), float("inf")):
-        result = isolated.call("pidamper.bench.fatal_checks:bad_input", str(fmu), value)
+        result = isolated.call("pidamper.benchmarks.fatal_checks:bad_input", str(fmu), value)
         found.append("ok" if result["error"] and "F = " in result["error"] else f"F={value}: {result}")
     for action in ("back", "mismatch", "fixed"):
-        refused = isolated.call("pidamper.bench.fatal_checks:host_misuse", str(fmu), action)
+        refused = isolated.call("pidamper.benchmarks.fatal_checks:host_misuse", str(fmu), action)
         found.append("ok" if refused else f"{action}: accepted")
     with Probe(fmu, FREE) as p:  # and this process still runs the FMU
         p.advance(1.0)
