@@ -194,46 +194,11 @@ def component_fmus(folder=None):
     return paths
 
 
-class _Slave:
-    """One FMU instance through fmpy's FMU2Slave, set up and initialised with `values`."""
+def _slave(path, name, values, messages):
+    """One initialised FMU instance whose messages go to the list `messages`."""
+    from .instance import FmuInstance
 
-    def __init__(self, path, name, values, messages):
-        import fmpy
-        from fmpy.fmi2 import FMU2Slave
-
-        from .stepper import fmi2_callbacks
-
-        md = fmpy.read_model_description(str(path))
-        self.dir = fmpy.extract(str(path))
-        self.vars = {v.name: v for v in md.modelVariables}
-        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self.dir, modelIdentifier=md.coSimulation.modelIdentifier,
-                             instanceName=name)
-        self._callbacks = fmi2_callbacks(lambda status, text: messages.append(text))
-        self.fmu.instantiate(callbacks=self._callbacks, loggingOn=True)
-        try:
-            self.fmu.setupExperiment(startTime=0.0)
-            self.fmu.enterInitializationMode()
-            for key, value in values.items():
-                var = self.vars[key]
-                if var.type == "Integer":
-                    self.fmu.setInteger([var.valueReference], [int(value)])
-                else:
-                    self.fmu.setReal([var.valueReference], [float(value)])
-            self.fmu.exitInitializationMode()
-        except Exception:
-            self.fmu.freeInstance()
-            shutil.rmtree(self.dir, ignore_errors=True)
-            raise
-
-    def vr(self, *names):
-        return [self.vars[n].valueReference for n in names]
-
-    def close(self):
-        try:
-            self.fmu.terminate()
-            self.fmu.freeInstance()
-        finally:
-            shutil.rmtree(self.dir, ignore_errors=True)
+    return FmuInstance(path, values, instance_name=name, logger=lambda status, text: messages.append(text))
 
 
 #: the Gauss-Seidel masters: name -> (impulse-aware coupling, extrapolated a_s)
@@ -271,8 +236,8 @@ def gauss_seidel(scn, h, mode="mean", fmus=None):
     messages = []
     n = scn.steps(h)
     j = scn.floor
-    building = _Slave(fmus[BUILDING], "building", scn.building_values(), messages)
-    unit = _Slave(fmus[UNIT], "unit", scn.unit_values(impulse_aware), messages)
+    building = _slave(fmus[BUILDING], "building", scn.building_values(), messages)
+    unit = _slave(fmus[UNIT], "unit", scn.unit_values(impulse_aware), messages)
     try:
         b, u = building.fmu, unit.fmu
         vr_a = building.vr(f"floor[{j}].a")
@@ -398,7 +363,7 @@ def refusal(fmu, values=None, inputs=None, steps=2, h=0.01):
 
     messages = []
     try:
-        slave = _Slave(fmu, "checked", values or {}, messages)
+        slave = _slave(fmu, "checked", values or {}, messages)
     except FMICallException as err:
         return "\n".join(messages) + f"\nstatus {err.status}"
     try:
@@ -409,8 +374,7 @@ def refusal(fmu, values=None, inputs=None, steps=2, h=0.01):
     except FMICallException as err:
         return "\n".join(messages) + f"\nstatus {err.status}"
     finally:
-        slave.fmu.freeInstance()
-        shutil.rmtree(slave.dir, ignore_errors=True)
+        slave.close()
     return None
 
 

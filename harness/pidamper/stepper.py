@@ -6,93 +6,27 @@ on the physics core directly.  The external force, if any, is sampled at the
 start of each advance and held (as a co-simulation host does).
 """
 import re
-import shutil
-from ctypes import byref
-
-import fmpy
-from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import (FMU2Slave, calloc, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, fmi2Fatal, free)
-from fmpy.logging import addLoggerProxy
 
 from pidamper_physics import INITIAL_DEFAULTS, Damper, Params
 
-
-def fmi2_callbacks(logger):
-    """FMI 2 callbacks as fmpy.simulate_fmu builds them (its C proxy formats the model's text),
-    calling logger(status, text)."""
-    callbacks = fmi2CallbackFunctions()
-    callbacks.logger = fmi2CallbackLoggerTYPE(
-        lambda component, instance, status, category, message: logger(status, message.decode(errors="replace")))
-    callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-    callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-    addLoggerProxy(byref(callbacks))
-    return callbacks
+from .instance import FmuInstance
 
 
-class FmuStepper:
-    """The damper FMU driven by fmpy's FMU2Slave."""
+class FmuStepper(FmuInstance):
+    """The damper FMU driven by fmpy's FMU2Slave (an FmuInstance), the external force sampled at
+    the start of each advance and held."""
 
     def __init__(self, fmu_path, start_values=None, forcing=None, start_time=0.0, instance_name="pidamper",
                  logger=None):
         """logger(status, text): hears the model's messages (debug logging on), else they are dropped."""
-        self._md = md = fmpy.read_model_description(str(fmu_path))
-        self._dir = fmpy.extract(str(fmu_path))
-        self._vars = {v.name: v for v in md.modelVariables}
-        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._dir,
-                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName=instance_name)
+        super().__init__(fmu_path, start_values, start_time, instance_name, logger)
         self.forcing = forcing
-        self.t = float(start_time)
-        self.fatal = False  # after fmi2Fatal the FMI standard forbids any further call
-        self._closed = False
-        fmu = self.fmu
-        if logger is None:
-            fmu.instantiate()
-        else:
-            self._callbacks = fmi2_callbacks(logger)  # kept alive as long as the instance
-            fmu.instantiate(callbacks=self._callbacks, loggingOn=True)
-        try:
-            self._call(fmu.setupExperiment, startTime=self.t)
-            self._call(fmu.enterInitializationMode)
-            for name, value in (start_values or {}).items():
-                self.set(name, value)
-            self._call(fmu.exitInitializationMode)
-        except Exception:
-            self.close()
-            raise
-        self._vr_read = [self._vars[n].valueReference for n in ("theta", "theta_dot")]
-
-    def set(self, name, value):
-        var = self._vars.get(name)
-        if var is None:
-            raise KeyError(f"{name!r} is not a variable of the FMU")
-        if var.type == "Integer":
-            self._call(self.fmu.setInteger, [var.valueReference], [int(value)])
-        else:
-            self._call(self.fmu.setReal, [var.valueReference], [float(value)])
-
-    def get(self, name):
-        var = self._vars[name]
-        if var.type == "Integer":
-            return self.fmu.getInteger([var.valueReference])[0]
-        return self.fmu.getReal([var.valueReference])[0]
+        self._vr_read = self.vr("theta", "theta_dot")
 
     def advance(self, t_end):
         if self.forcing is not None:
             self.set(self.forcing.target, float(self.forcing.value(self.t)))
         self.do_step(self.t, t_end - self.t)
-
-    def do_step(self, current_time, step_size):
-        """fmi2DoStep as a host would call it (the times are not checked here)."""
-        self._call(self.fmu.doStep, currentCommunicationPoint=current_time, communicationStepSize=step_size)
-        self.t = current_time + step_size
-
-    def _call(self, function, *args, **kwargs):
-        try:
-            return function(*args, **kwargs)
-        except FMICallException as err:
-            self.fatal = self.fatal or err.status == fmi2Fatal
-            raise
 
     def read(self):
         """(theta, theta_dot) now."""
@@ -108,27 +42,6 @@ class FmuStepper:
 
     def discard(self, saved):
         self.fmu.freeFMUstate(saved[1])
-
-    def close(self):
-        """Terminate and free the instance; after fmi2Fatal only the files are removed (the
-        standard forbids further calls, and pythonfmu 0.7 has already released its objects:
-        freeing the instance again would free them twice)."""
-        if self._closed:
-            return
-        self._closed = True
-        if not self.fatal:
-            try:
-                self.fmu.terminate()
-            except FMICallException:
-                pass
-            self.fmu.freeInstance()
-        shutil.rmtree(self._dir, ignore_errors=True)
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
 
 class CoreStepper:

@@ -73,23 +73,11 @@ def percent_in_instance_name(fmu, instance="damper%s%n%d"):
     """A refused parameter in an instance whose name holds printf conversions: the host's
     logger takes the model's text as a format, so the FMU must escape them (a bare %n or %s
     crashes fmpy).  Returns the logged text of the error, or None if nothing was refused."""
-    from fmpy import extract, read_model_description
-    from fmpy.fmi2 import FMU2Slave
+    from ..instance import FmuInstance
 
-    from ..stepper import fmi2_callbacks
-
-    md = read_model_description(fmu)
     texts = []
-    callbacks = fmi2_callbacks(lambda status, text: texts.append(text))
-    slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu), modelIdentifier=md.coSimulation.modelIdentifier,
-                      instanceName=instance)
-    slave.instantiate(callbacks=callbacks, loggingOn=True)
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    slave.setupExperiment(startTime=0.0)
-    slave.enterInitializationMode()
-    slave.setReal([vr["mu"]], [-1.0])
     try:
-        slave.exitInitializationMode()
+        FmuInstance(fmu, {"mu": -1.0}, instance_name=instance, logger=lambda status, text: texts.append(text)).close()
     except Exception:  # noqa: BLE001 - the refusal is the point
         return " | ".join(texts)
     return None

@@ -28,7 +28,7 @@ class Probe(FmuStepper):
     NAMES = ("x", "y", "z", "energy", "energy_dissipated", "work_in")
 
     def state(self):
-        vals = self.fmu.getReal([self._vars[n].valueReference for n in self.NAMES])
+        vals = self.fmu.getReal(self.vr(*self.NAMES))
         return dict(zip(self.NAMES, vals))
 
 

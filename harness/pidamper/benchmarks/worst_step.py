@@ -13,11 +13,10 @@ import platform
 import time
 from pathlib import Path
 
-import fmpy
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import FMU2Slave
 
 from ..fmu import find_fmu
+from ..instance import FmuInstance
 
 #: (label, parameters, h [s], steps)
 CASES = [
@@ -35,33 +34,23 @@ CASES = [
 
 def worst_step(fmu, params, h, steps):
     """(worst doStep seconds, steps accepted, refused?)"""
-    md = fmpy.read_model_description(str(fmu))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    reals = [v.valueReference for v in md.modelVariables if v.type == "Real" and v.causality == "output"]
-    ints = [v.valueReference for v in md.modelVariables if v.type == "Integer" and v.causality == "output"]
-    slave = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(str(fmu)),
-                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName="worst")
-    slave.instantiate()
-    slave.setupExperiment(startTime=0.0)
-    slave.enterInitializationMode()
-    for name, value in params.items():
-        (slave.setInteger if name == "fidelity" else slave.setReal)([vr[name]], [value])
-    slave.exitInitializationMode()
+    slave = FmuInstance(fmu, params, instance_name="worst")
+    outputs = [v for v in slave.vars.values() if v.causality == "output"]
+    reals = [v.valueReference for v in outputs if v.type == "Real"]
+    ints = [v.valueReference for v in outputs if v.type == "Integer"]
     worst, done, refused = 0.0, 0, False
     for k in range(steps):
         t0 = time.perf_counter()
         try:
-            slave.doStep(currentCommunicationPoint=k * h, communicationStepSize=h)
+            slave.do_step(k * h, h)
         except FMICallException:
             worst, refused = max(worst, time.perf_counter() - t0), True
             break
         worst = max(worst, time.perf_counter() - t0)
-        slave.getReal(reals)
-        slave.getInteger(ints)
+        slave.fmu.getReal(reals)
+        slave.fmu.getInteger(ints)
         done += 1
-    if not refused:
-        slave.terminate()
-    slave.freeInstance()
+    slave.close()
     return worst, done, refused
 
 
