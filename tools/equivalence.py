@@ -27,8 +27,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-import fmpy
-from fmpy.fmi2 import FMU2Slave
+from pidamper.instance import FmuInstance
 
 ROOT = Path(__file__).resolve().parents[1]
 H = 0.01
@@ -51,51 +50,26 @@ def build(tree, out):
     return out
 
 
-class Slave:
-    """One FMU instance stepped by hand; read() returns every output variable."""
+class Slave(FmuInstance):
+    """One FMU instance stepped by hand (pidamper.instance); read() returns every output variable."""
 
     def __init__(self, path, start_values):
-        md = fmpy.read_model_description(str(path))
-        self.vars = {v.name: v for v in md.modelVariables}
-        self.outputs = [v for v in md.modelVariables if v.causality == "output"]
-        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(str(path)),
-                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName="equivalence")
-        self.fmu.instantiate()
-        self.fmu.setupExperiment(startTime=0.0)
-        self.fmu.enterInitializationMode()
-        for name, value in start_values.items():
-            self.set(name, value)
-        self.fmu.exitInitializationMode()
-
-    def set(self, name, value):
-        var = self.vars[name]
-        if var.type == "Integer":
-            self.fmu.setInteger([var.valueReference], [int(value)])
-        else:
-            self.fmu.setReal([var.valueReference], [float(value)])
-
-    def get(self, name):
-        var = self.vars[name]
-        return (self.fmu.getInteger if var.type == "Integer" else self.fmu.getReal)([var.valueReference])[0]
+        super().__init__(path, start_values, instance_name="equivalence")
+        outputs = [v for v in self.vars.values() if v.causality == "output"]
+        self._reals = [v.valueReference for v in outputs if v.type == "Real"]
+        self._ints = [v.valueReference for v in outputs if v.type != "Real"]
 
     def read(self):
-        reals = [v.valueReference for v in self.outputs if v.type == "Real"]
-        ints = [v.valueReference for v in self.outputs if v.type != "Real"]
-        return list(self.fmu.getReal(reals)) + [float(i) for i in self.fmu.getInteger(ints)]
+        return list(self.fmu.getReal(self._reals)) + [float(i) for i in self.fmu.getInteger(self._ints)]
 
     def step(self, k):
-        self.fmu.doStep(currentCommunicationPoint=(k - 1) * H, communicationStepSize=H)
-
-    def close(self):
-        self.fmu.terminate()
-        self.fmu.freeInstance()
+        self.do_step((k - 1) * H, H)
 
 
 def scene_cases():
     """(name, start values, input name or None, input values per step) of every shipped scene, the
     paper's cases and a 1-storey building, with this tree's scene loader and forcing signals."""
-    sys.path.insert(0, str(ROOT / "harness"))
-    from pidamper import scene as scenes  # this tree's loader: the inputs both builds get
+    from pidamper import scene as scenes  # this tree's loader (the environment's editable install): the inputs both builds get
 
     cases = []
     for name in sorted(p.stem for p in (ROOT / "harness" / "pidamper" / "scenes").glob("*.toml")):
