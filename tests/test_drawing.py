@@ -11,8 +11,8 @@ from mcap_protobuf.decoder import DecoderFactory
 from rerun.chunk import RrdReader
 from scipy.spatial.transform import Rotation
 
-from pidamper.logged_run import run_logged
-from pidamper.mcap_log import read_run
+from pidamper.runlog.logged_run import run_logged
+from pidamper.runlog.mcap_log import read_run
 
 os.environ.setdefault("RERUN_ANALYTICS", "0")
 HUNG = {"mu": 0.1, "FR": 2.0, "d": 0.15, "e": 0.05, "theta_dot_0": 3.13, "alpha_dot_0": -12.52,

@@ -14,10 +14,10 @@ from mcap.reader import make_reader
 from rerun.chunk import RrdReader
 
 from pidamper import CoreStepper, forcing, isolated
-from pidamper.logged_run import replay, run_logged
-from pidamper.mcap_log import read_run
-from pidamper.records import STATE_FIELDS, to_ns
-from pidamper.rerun_log import MARKERS, SERIES
+from pidamper.runlog.logged_run import replay, run_logged
+from pidamper.runlog.mcap_log import read_run
+from pidamper.runlog.schema import STATE_FIELDS, to_ns
+from pidamper.runlog.rerun_log import MARKERS, SERIES
 
 os.environ.setdefault("RERUN_ANALYTICS", "0")
 W2 = math.sqrt(9.81)
@@ -111,7 +111,7 @@ def test_replay_equals_the_live_recording(logged, tmp_path):
 
 def test_replay_differs_when_the_data_differ(logged, tmp_path):
     """The comparison is not vacuous: a replay with one state value changed is reported."""
-    import pidamper.logged_run as lr
+    import pidamper.runlog.logged_run as lr
 
     original = lr.read_run
 

@@ -44,7 +44,7 @@ def test_wheel_installs_and_runs_from_a_clean_environment(tmp_path):
     work.mkdir()
     assert "usage: pidamper" in _run([str(env_dir / "bin" / "pidamper"), "--help"], cwd=work)
     names = _run([str(python), "-c", IMPORT_EVERYTHING], cwd=work).split()
-    assert {"pidamper.scenes", "pidamper.oracles", "pidamper.benchmarks", "pidamper_physics", "pidamper_fmu",
+    assert {"pidamper.scenes", "pidamper.oracles", "pidamper.benchmarks", "pidamper.runlog", "pidamper_physics", "pidamper_fmu",
             "build_fmu"} <= set(names)
     scenes = _run([str(python), "-c", "from pidamper import scene; print(' '.join(scene.shipped()))"], cwd=work)
     assert "resonance" in scenes.split() and len(scenes.split()) >= 10

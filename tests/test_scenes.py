@@ -12,8 +12,8 @@ from rerun.chunk import RrdReader
 
 from pidamper import scene
 from pidamper.cli import main
-from pidamper.logged_run import replay
-from pidamper.mcap_log import read_floors, read_run
+from pidamper.runlog.logged_run import replay
+from pidamper.runlog.mcap_log import read_floors, read_run
 from pidamper.scene import SceneError
 
 os.environ.setdefault("RERUN_ANALYTICS", "0")

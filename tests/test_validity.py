@@ -110,8 +110,8 @@ def test_instance_names_with_printf_conversions_reach_the_log_intact(fmu_path):
 
 
 def test_a_logged_run_keeps_both_warnings_as_notes_at_their_times(fmu_path, tmp_path):
-    from pidamper.logged_run import run_logged
-    from pidamper.mcap_log import read_run
+    from pidamper.runlog.logged_run import run_logged
+    from pidamper.runlog.mcap_log import read_run
 
     logged = run_logged({"mu": 0.0, "theta_dot_0": 0.5 * W2}, stop_time=3.0, output_interval=0.01, out_dir=tmp_path,
                         fmu=fmu_path, rrd=False)

@@ -15,7 +15,7 @@ from pidamper_physics import Params
 
 from . import scene as scene_mod
 from .fmu import find_fmu
-from .logged_run import replay, run_logged
+from .runlog.logged_run import replay, run_logged
 from .simulation import FmuError, run
 from .stepper import FmuStepper
 from . import measures

@@ -18,7 +18,6 @@ from fmpy.fmi1 import FMICallException
 from pidamper_physics import Params
 
 from .fmu import find_fmu
-from .records import floor_columns
 from .forcing import Forcing, none
 
 OUTPUTS = ("theta", "theta_dot", "alpha", "alpha_dot", "x", "y", "z", "a", "impacts", "contact",
@@ -81,6 +80,12 @@ def resonance(parameters):
     """Primary natural frequency [rad/s] for the given FMU parameters (the model's defaults for
     those not given): w2 = sqrt(g / L2), or a building's first natural frequency w_1 (storeys >= 1)."""
     return Params.from_variables(parameters).w2
+
+
+def floor_columns(storeys):
+    """The FMU outputs a floor block is made of, in floors_dtype's order."""
+    return tuple(f"{kind}[{k}].{field}" for kind, field in (("floor", "x"), ("floor", "a"), ("storey", "drift"))
+                 for k in range(1, storeys + 1)) + ("base_shear",)
 
 
 def building_outputs(parameters):

@@ -59,7 +59,7 @@ def host_misuse(fmu, action):
 
 def logged_failure(fmu, out_dir):
     """A logged run whose input turns infinite at t = 1 s: the error text (the logs stay in out_dir)."""
-    from ..logged_run import run_logged
+    from ..runlog.logged_run import run_logged
 
     sig = Forcing("csv", {"file": "x"}, table=(np.array([0.0, 0.999, 1.0, 9.0]), np.array([0.0, 0.0, np.inf, np.inf])))
     try:

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from .. import forcing
 from ..fmu import find_fmu
-from ..logged_run import run_logged
+from ..runlog.logged_run import run_logged
 from ..simulation import run
 
 W2 = math.sqrt(9.81)

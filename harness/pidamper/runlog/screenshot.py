@@ -1,6 +1,6 @@
 """Render a run's .rrd headless to a PNG (what a reader sees when replaying it in Rerun).
 
-    python -m pidamper.screenshot out/resonance.rrd docs/rerun-resonance.png [--time 30]
+    python -m pidamper.runlog.screenshot out/resonance.rrd docs/rerun-resonance.png [--time 30]
 
 Needs a Vulkan driver; without a GPU, Mesa's software one (Debian: mesa-vulkan-drivers,
 libvulkan1).  The viewer runs headless and never opens a window.

@@ -18,17 +18,12 @@ STATE_DTYPE = np.dtype([(n, np.int64 if n in ("contact", "impacts") else np.floa
 IMPACT_FIELDS = ("t", "side", "v_rel_before", "v_rel_after", "energy_lost", "theta", "index")
 IMPACT_DTYPE = np.dtype([(n, np.int64 if n in ("side", "index") else np.float64) for n in IMPACT_FIELDS])
 
+
 def floors_dtype(storeys):
     """A building run's floor block (storeys >= 1): time [s], floor displacements x [m] and absolute
     accelerations a [m/s2], storey drifts [m] (floor / storey 1 first) and the base shear [N]."""
     return np.dtype([("time", np.float64), ("x", np.float64, (storeys,)), ("a", np.float64, (storeys,)),
                      ("drift", np.float64, (storeys,)), ("base_shear", np.float64)])
-
-
-def floor_columns(storeys):
-    """The FMU outputs a floor block is made of, in floors_dtype's order."""
-    return tuple(f"{kind}[{k}].{field}" for kind, field in (("floor", "x"), ("floor", "a"), ("storey", "drift"))
-                 for k in range(1, storeys + 1)) + ("base_shear",)
 
 
 PACKAGES = ("pidamper", "pythonfmu", "fmpy", "numpy", "mcap", "foxglove-sdk", "rerun-sdk")

@@ -13,7 +13,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from .mcap_log import impact_text
-from .records import frames, stop_height, to_ns
+from .schema import frames, stop_height, to_ns
 
 TIMELINE = "sim_time"
 
@@ -137,7 +137,7 @@ def log_block(rec, info, states, impacts, floors=None):
 
 
 def _log_frames(rec, times, g, states):
-    """The pendulum's moving frames (records.frames): each body turns about its pivot; the
+    """The pendulum's moving frames (schema.frames): each body turns about its pivot; the
     stops ride on the primary's bob."""
     theta, alpha, pivot, carrier = frames(g, states)
     for entity, angle, origin in (("pendulum/primary", theta, np.tile([0.0, 0.0, g["L2"]], (len(states), 1))),

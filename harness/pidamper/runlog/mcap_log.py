@@ -4,7 +4,7 @@ Topics (titled JSON schemas, plotted by Foxglove as they are):
 - /damper/state     one message per communication point (STATE_FIELDS)
 - /damper/impacts   one message per recorded impact (IMPACT_FIELDS)
 - /building/floors  a building's run (storeys >= 1): one message per communication point, arrays x,
-                    a, drift (floor / storey 1 first) and base_shear (records.floors_dtype)
+                    a, drift (floor / storey 1 first) and base_shear (schema.floors_dtype)
 - /run/info         the run metadata once (also the MCAP metadata record "pidamper.run")
 - /run/notes        run start, end, failure, impacts not recorded individually
 - /log              foxglove.Log: the impacts and notes as log lines
@@ -23,7 +23,7 @@ from foxglove.messages import (Color, CubePrimitive, FrameTransform, FrameTransf
 from mcap.stream_reader import StreamReader
 from mcap.records import Channel, Message, Metadata
 
-from .records import (IMPACT_DTYPE, IMPACT_FIELDS, STATE_DTYPE, STATE_FIELDS, floors_dtype, frames, stop_height,
+from .schema import (IMPACT_DTYPE, IMPACT_FIELDS, STATE_DTYPE, STATE_FIELDS, floors_dtype, frames, stop_height,
                       to_ns)
 
 METADATA_NAME = "pidamper.run"
@@ -102,7 +102,7 @@ class McapLog:
 
     def write(self, states, impacts, floors=None):
         """Append a block of states (STATE_DTYPE) and impacts (IMPACT_DTYPE), and of a building's
-        floors (records.floors_dtype) if any."""
+        floors (schema.floors_dtype) if any."""
         times = to_ns(states["time"]).tolist()
         topics = self.topics
         if floors is not None and "/building/floors" in topics:
@@ -126,7 +126,7 @@ class McapLog:
                                  name="pidamper"), log_time=ns)
 
     def _write_frames(self, times, states):
-        """The pendulum's frames (records.frames): each body turns about its pivot; the stops
+        """The pendulum's frames (schema.frames): each body turns about its pivot; the stops
         ride on the primary's bob without turning."""
         theta, alpha, pivot, carrier = frames(self.geometry, states)
         top = Vector3(x=0.0, y=0.0, z=self.geometry["L2"])
@@ -217,7 +217,7 @@ def read_run(path):
 
 
 def read_floors(path):
-    """A building run's floors (records.floors_dtype) from its MCAP, or None (no building)."""
+    """A building run's floors (schema.floors_dtype) from its MCAP, or None (no building)."""
     rows, floors_channel = [], None
     with open(path, "rb") as handle:
         try:

@@ -14,11 +14,11 @@ from pathlib import Path
 import numpy as np
 
 from . import rerun_log
-from .fmu import find_fmu
-from .forcing import none
+from ..fmu import find_fmu
+from ..forcing import none
 from .mcap_log import McapLog, read_floors, read_run
-from .records import IMPACT_DTYPE, STATE_DTYPE, STATE_FIELDS, floor_columns, floors_dtype, geometry, run_info
-from .simulation import FmuError, run
+from .schema import IMPACT_DTYPE, STATE_DTYPE, STATE_FIELDS, floors_dtype, geometry, run_info
+from ..simulation import FmuError, floor_columns, run
 
 IMPACT_SLOTS = 16
 INPUTS = ("F", "a_g")  # state columns that come from the forcing, not from the FMU
