@@ -7,7 +7,8 @@ import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
-from pidamper import assess, ground_motion
+from pidamper.assessment import assess
+from pidamper.forcing import ground_motion
 from pidamper.cli import main
 
 TINY = """

@@ -237,7 +237,7 @@ def test_fmu_building_outputs_follow_the_core(fmu_path):
     ({"storeys": 2, "storey[1].k": float("inf")}, "storey[1].k = inf"),
 ])
 def test_fmu_refuses_a_bad_building_by_name(fmu_path, values, expected):
-    from pidamper import isolated
+    from pidamper.running import isolated
 
     text = isolated.call("pidamper.benchmarks.fatal_checks:bad_values", str(fmu_path), values)
     assert text is not None and expected in text and "not allowed" in text and "status 3 (error)" in text

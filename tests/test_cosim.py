@@ -15,8 +15,9 @@ import pytest
 import scipy.linalg
 from fmpy.validation import validate_fmu
 
-from pidamper import isolated
-from pidamper.cosim import (BUILDING, UNIT, Scenario, _slave, component_fmus, error, export_system, gauss_seidel,
+from pidamper.running import isolated
+from pidamper.cosim.components import component_instance
+from pidamper.cosim import (BUILDING, UNIT, Scenario, component_fmus, error, export_system, gauss_seidel,
                             ivp_reference, monolithic_reference, physics_gauss_seidel)
 from pidamper_physics.shear_motion import ShearMotion, make_building
 from pidamper_physics.unit import DamperUnit
@@ -99,7 +100,7 @@ def test_building_fmu_equals_expm_and_declares_its_feedthrough(fmus):
     values = {"storeys": 4, "zeta_s": 0.03, **{f"floor[{k + 1}].m": m for k, m in enumerate(MASSES)},
               **{f"storey[{k + 1}].k": s for k, s in enumerate(STIFFNESSES)}, "floor[5].m": -1.0}  # ignored
     messages = []
-    slave = _slave(fmus[BUILDING], "b", values, messages)
+    slave = component_instance(fmus[BUILDING], "b", values, messages)
     try:
         fmu = slave.fmu
         names = [f"floor[{k}].{q}" for q in "xva" for k in range(1, 6)]
@@ -157,7 +158,7 @@ def test_unit_impact_law(fmus, mode, e):
     values = {**UNIT_CASE, "e": e, "impulse_aware": mode, "r_dot_0": v0}
     core = DamperUnit(**values)
     core.advance(h, 0.0)
-    slave = _slave(fmus[UNIT], "u", values, [])
+    slave = component_instance(fmus[UNIT], "u", values, [])
     try:
         slave.fmu.doStep(0.0, h)
         names = ("F_s", "J_s", "t_J", "r", "r_dot", "energy_dissipated")
@@ -189,7 +190,7 @@ def test_momentum_passed_through_F_s_equals_what_the_particle_lost(fmus, mode):
     h, a_s = 0.01, drive(3)
     core = DamperUnit(**values)
     core.bound_work()
-    slave = _slave(fmus[UNIT], "u", values, [])
+    slave = component_instance(fmus[UNIT], "u", values, [])
     passed = frame = impulses = 0.0
     riding = 0
     try:
@@ -342,12 +343,12 @@ REFUSED = [
 
 def test_bad_values_are_refused_naming_the_value(fmus):
     cases = [(str(fmus[model]), values, inputs) for model, values, inputs, _ in REFUSED]
-    texts = isolated.call("pidamper.cosim:refusals", cases)
+    texts = isolated.call("pidamper.cosim.refusals:refusals", cases)
     for (model, values, inputs, expected), text in zip(REFUSED, texts):
         assert text is not None, f"{model}: {values or inputs} was accepted"
         assert expected in text and "status 3" in text, (model, values, inputs, text)
     # and the defaults are accepted
-    assert isolated.call("pidamper.cosim:refusals", [(str(fmus[m]), {}, {}) for m in (UNIT, BUILDING)]) == [None, None]
+    assert isolated.call("pidamper.cosim.refusals:refusals", [(str(fmus[m]), {}, {}) for m in (UNIT, BUILDING)]) == [None, None]
 
 
 # ---- system files ------------------------------------------------------------------------------
@@ -381,8 +382,8 @@ def test_ssp_and_osp_files_describe_the_coupled_system_and_run_in_libcosim(fmus,
 def test_fmu_states_restore_both_components(fmus):
     scn = replace(Scenario(), stop_time=1.0)
     messages = []
-    b = _slave(fmus[BUILDING], "b", scn.building_values(), messages)
-    u = _slave(fmus[UNIT], "u", scn.unit_values(True), messages)
+    b = component_instance(fmus[BUILDING], "b", scn.building_values(), messages)
+    u = component_instance(fmus[UNIT], "u", scn.unit_values(True), messages)
     try:
         def step(k, h=0.005):
             u.fmu.setReal(u.vr("a_s"), b.fmu.getReal(b.vr("floor[3].a")))

@@ -22,7 +22,7 @@ W2 = math.sqrt(9.81)
 FREE = {"theta_dot_0": 0.7 * W2}
 
 
-def _slave(fmu_path, unzipped, name="x"):
+def component_instance(fmu_path, unzipped, name="x"):
     md = fmpy.read_model_description(str(fmu_path))
     fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, modelIdentifier="PendulumImpactDamper", instanceName=name)
     vr = {v.name: v.valueReference for v in md.modelVariables}
@@ -53,7 +53,7 @@ def unzipped(fmu_path, tmp_path_factory):
 
 def test_reset_gives_a_run_equal_to_a_new_instance(fmu_path, unzipped):
     times = [0.05 * k for k in range(1, 300)]
-    fmu, vr = _slave(fmu_path, unzipped)
+    fmu, vr = component_instance(fmu_path, unzipped)
     fmu.instantiate()
     _init(fmu, vr, FREE)
     first = _steps(fmu, vr, times)
@@ -72,7 +72,7 @@ def _rss_mb():
 
 def test_instantiate_free_cycles_do_not_grow_memory(fmu_path, unzipped):
     def cycle():
-        fmu, vr = _slave(fmu_path, unzipped)
+        fmu, vr = component_instance(fmu_path, unzipped)
         fmu.instantiate()
         _init(fmu, vr, FREE)
         fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=1.0)
@@ -127,7 +127,7 @@ def test_serialized_state_restores_in_another_process(fmu_path, unzipped, tmp_pa
     t0 = float(done.stdout)
     times = [t0 + 0.07 * k for k in range(1, 200)]
     # the same run, uninterrupted, in this process
-    fmu, vr = _slave(fmu_path, unzipped, "whole")
+    fmu, vr = component_instance(fmu_path, unzipped, "whole")
     fmu.instantiate()
     _init(fmu, vr, FREE)
     t = 0.0
@@ -138,7 +138,7 @@ def test_serialized_state_restores_in_another_process(fmu_path, unzipped, tmp_pa
     fmu.terminate()
     fmu.freeInstance()
     # restored from the other process's bytes
-    other, vr2 = _slave(fmu_path, unzipped, "restored")
+    other, vr2 = component_instance(fmu_path, unzipped, "restored")
     other.instantiate()
     _init(other, vr2, {"theta_dot_0": 0.0})
     state = other.deSerializeFMUstate(blob_file.read_bytes())
@@ -165,14 +165,14 @@ def test_arbitrary_step_sequences(fmu_path, unzipped):
     while t < 20.0:
         t = min(20.0, t + 10 ** rng.uniform(-6, math.log10(3.0)))
         times.append(t)
-    a, vr = _slave(fmu_path, unzipped, "random")
+    a, vr = component_instance(fmu_path, unzipped, "random")
     a.instantiate()
     _init(a, vr, FREE)
     ragged = _steps(a, vr, times)
     a.terminate()
     a.freeInstance()
     checkpoints = times[:: max(1, len(times) // 40)] + [times[-1]]
-    b, vr = _slave(fmu_path, unzipped, "checkpoints")
+    b, vr = component_instance(fmu_path, unzipped, "checkpoints")
     b.instantiate()
     _init(b, vr, FREE)
     direct = dict(zip(checkpoints, _steps(b, vr, checkpoints)))
@@ -267,7 +267,7 @@ def test_a_state_that_does_not_come_from_the_model_is_refused(fmu_path, unzipped
     the model's own state then restores, and the run goes on bit for bit."""
     import json
 
-    fmu, vr = _slave(fmu_path, unzipped, "tampered")
+    fmu, vr = component_instance(fmu_path, unzipped, "tampered")
     fmu.instantiate()
     _init(fmu, vr, FREE)
     times = [0.05 * k for k in range(1, 31)]
@@ -285,7 +285,7 @@ def test_a_state_that_does_not_come_from_the_model_is_refused(fmu_path, unzipped
     fmu.freeFMUstate(foreign)
     fmu.freeFMUstate(own)
     fmu.freeInstance()
-    clean, vr2 = _slave(fmu_path, unzipped, "clean")
+    clean, vr2 = component_instance(fmu_path, unzipped, "clean")
     clean.instantiate()
     _init(clean, vr2, FREE)
     _steps(clean, vr2, times)

@@ -9,7 +9,7 @@ from fmpy.validation import validate_fmu
 
 from pidamper import CoreStepper, FmuStepper, forcing
 from build_fmu import expected_guid
-from pidamper import isolated
+from pidamper.running import isolated
 
 W2 = math.sqrt(9.81)
 PERIOD = 2 * math.pi / W2

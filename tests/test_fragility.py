@@ -7,8 +7,7 @@ from scipy import integrate
 from scipy.special import log_ndtr
 from scipy.stats import binom, norm
 
-from pidamper.fragility import (FragilityError, bootstrap, fit_records, fit_stripes, hazard_power_law_from_points,
-                                maf_power_law, maf_ratio, maf_table, plot_fragility)
+from pidamper.assessment.fragility import FragilityError, bootstrap, fit_records, fit_stripes, hazard_power_law_from_points, maf_power_law, maf_ratio, maf_table, plot_fragility
 
 THETA0, BETA0 = 0.5, 0.4            # g, -
 IM = np.geomspace(0.1, 1.5, 10)     # g

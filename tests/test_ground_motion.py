@@ -7,8 +7,8 @@ import pytest
 from scipy import signal as sps
 from scipy.integrate import quad
 
-from pidamper import ground_motion as gm
-from pidamper import spectra
+from pidamper.forcing import ground_motion as gm
+from pidamper.forcing import spectra
 
 G = 9.80665
 

@@ -6,7 +6,8 @@ import sys
 import numpy as np
 import pytest
 
-from pidamper import CoreStepper, forcing, isolated, measures, run
+from pidamper import CoreStepper, forcing, measures, run
+from pidamper.running import isolated
 from pidamper.cli import main
 
 W2 = math.sqrt(9.81)

@@ -13,7 +13,8 @@ import pytest
 from mcap.reader import make_reader
 from rerun.chunk import RrdReader
 
-from pidamper import CoreStepper, forcing, isolated
+from pidamper import CoreStepper, forcing
+from pidamper.running import isolated
 from pidamper.runlog.logged_run import replay, run_logged
 from pidamper.runlog.mcap_log import read_run
 from pidamper.runlog.schema import STATE_FIELDS, to_ns

@@ -6,7 +6,7 @@ import pytest
 
 from pidamper import FmuStepper
 from pidamper.measures import damping_ratio, max_abs_theta
-from pidamper.paper import HORIZON, PERIOD, READINGS, amplitude, damping, params
+from pidamper.studies.paper import HORIZON, PERIOD, READINGS, amplitude, damping, params
 
 
 @pytest.mark.parametrize("reading", READINGS)

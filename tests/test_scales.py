@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from pidamper import isolated
+from pidamper.running import isolated
 from pidamper_physics import Damper, ParameterError, Params
 
 

@@ -10,11 +10,11 @@ import pytest
 from mcap.reader import make_reader
 from rerun.chunk import RrdReader
 
-from pidamper import scene
+from pidamper.scenes import scene
 from pidamper.cli import main
 from pidamper.runlog.logged_run import replay
 from pidamper.runlog.mcap_log import read_floors, read_run
-from pidamper.scene import SceneError
+from pidamper.scenes.scene import SceneError
 
 os.environ.setdefault("RERUN_ANALYTICS", "0")
 REQUIRED = ("free-decay", "resonance", "sweep", "ground-motion", "hard-chatter")

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from pidamper.study import frequency_response, key, run_point, run_study
+from pidamper.studies.study import frequency_response, key, run_point, run_study
 
 W2 = math.sqrt(9.81)
 FREE = {"theta_dot_0": 0.7 * W2, "mu": 0.1, "e": 0.2}
@@ -76,7 +76,7 @@ def test_a_building_point_is_forced_and_measured_at_the_building_s_own_frequency
     oracle is numpy's generalized eigenvalue of the shear building's K and M."""
     import numpy as np
 
-    from pidamper.study import _start_values
+    from pidamper.studies.study import _start_values
 
     masses, k = [2.0e5, 1.5e5, 1.0e5], [9.0e7, 7.0e7, 5.0e7]
     K = np.diag([k[0] + k[1], k[1] + k[2], k[2]]) - np.diag([k[1], k[2]], 1) - np.diag([k[1], k[2]], -1)

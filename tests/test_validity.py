@@ -8,7 +8,8 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.special import ellipk
 
-from pidamper import FmuStepper, isolated, run
+from pidamper import FmuStepper, run
+from pidamper.running import isolated
 from pidamper_physics import Damper, Params, SmallAngleMonitor, frequency_error
 
 W2 = math.sqrt(9.81)

@@ -27,7 +27,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from pidamper.instance import FmuInstance
+from pidamper.running.instance import FmuInstance
 
 ROOT = Path(__file__).resolve().parents[1]
 H = 0.01
@@ -51,7 +51,7 @@ def build(tree, out):
 
 
 class Slave(FmuInstance):
-    """One FMU instance stepped by hand (pidamper.instance); read() returns every output variable."""
+    """One FMU instance stepped by hand (pidamper.running.instance); read() returns every output variable."""
 
     def __init__(self, path, start_values):
         super().__init__(path, start_values, instance_name="equivalence")
@@ -69,7 +69,7 @@ class Slave(FmuInstance):
 def scene_cases():
     """(name, start values, input name or None, input values per step) of every shipped scene, the
     paper's cases and a 1-storey building, with this tree's scene loader and forcing signals."""
-    from pidamper import scene as scenes  # this tree's loader (the environment's editable install): the inputs both builds get
+    from pidamper.scenes import scene as scenes  # this tree's loader (the environment's editable install): the inputs both builds get
 
     cases = []
     for name in sorted(p.stem for p in (ROOT / "harness" / "pidamper" / "scenes").glob("*.toml")):

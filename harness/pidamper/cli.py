@@ -1,269 +1,58 @@
-"""Command line: pidamper run | replay | demo | bench | stress | study | paper | cosim.
+"""Command line: pidamper run | replay | demo | bench | stress | study | paper | cosim | assess.
 
     pidamper run [SCENE] [--forcing KIND] [-p NAME=VALUE ...] [--stop-time S | --periods N]
                  [--output-interval H] [--fmu PATH] [--csv-out FILE] [--out DIR] [--serve | --connect URL]
     pidamper replay RUN.mcap --out FILE.rrd [--serve | --connect URL]
     pidamper demo [--out DIR]
+
+The commands live in their rooms; this module only dispatches.  The commands with their own parser
+(bench, stress, study, paper, cosim, assess) are imported when called.
 """
 import argparse
-import math
+import importlib
 import sys
-import time
-from pathlib import Path
 
-from pidamper_physics import Params
+from .running.simulation import FmuError
 
-from . import scene as scene_mod
-from .fmu import find_fmu
-from .runlog.logged_run import replay, run_logged
-from .simulation import FmuError, run
-from .stepper import FmuStepper
-from . import measures
-
-def _parse_param(text):
-    name, sep, value = text.partition("=")
-    if not sep:
-        raise argparse.ArgumentTypeError(f"-p {text!r} is not allowed: use NAME=VALUE")
-    try:
-        number = int(value) if name.strip() in ("contact_form", "storeys", "damper_floor") else float(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"-p {text!r} is not allowed: {value!r} is not a number") from None
-    return name.strip(), number
+#: command -> (module:function taking the rest of argv, help)
+OWN_PARSER = {
+    "bench": ("pidamper.benchmarks.workprecision:main", "work-precision benchmark (pidamper bench --help)"),
+    "stress": ("pidamper.benchmarks.stress:main", "hard-case stability table (pidamper stress --help)"),
+    "study": ("pidamper.studies.study:main", "parametric study over a grid (pidamper study --help)"),
+    "paper": ("pidamper.studies.paper:main", "regenerate the paper's figures for both readings (pidamper paper --help)"),
+    "cosim": ("pidamper.cosim.command:cli_main",
+              "the damper unit FMU on the ShearBuilding FMU, co-simulated (pidamper cosim --help)"),
+    "assess": ("pidamper.assessment.assess:cli_main",
+               "performance-based assessment: suite, stripes, fragility, risk (pidamper assess --help)"),
+}
 
 
-def scene_from_args(args):
-    """The scene to run: args.scene (a shipped name or a file; default: 'default') with every
-    option given on the command line overriding its field (validated like the file)."""
-    base = scene_mod.load(args.scene or "default")
-    data = {"description": base.description, "parameters": {**base.parameters, **dict(args.param or [])},
-            "forcing": dict(base.forcing), "run": dict(base.run), "outputs": {"record": list(base.outputs)},
-            "log": dict(base.log)}
-    forcing = data["forcing"]
-    if args.forcing is not None and args.forcing != forcing.get("kind"):
-        forcing = data["forcing"] = {"kind": args.forcing}
-    if args.csv is not None:
-        forcing.clear()
-        forcing.update(kind="csv", file=str(Path(args.csv).resolve()))
-    for option, key in (("F0", "F0"), ("omega", "Omega"), ("phi", "phi"), ("omega_start", "Omega_start"),
-                        ("omega_end", "Omega_end")):
-        value = getattr(args, option)
-        if value is not None:
-            forcing[key] = value
-            forcing.pop(key + "_ratio", None)
-    if args.sampled:
-        forcing["sampled"] = True
-    run = data["run"]
-    if args.stop_time is not None or args.periods is not None:
-        run.pop("stop_time", None)
-        run.pop("periods", None)
-        run["stop_time" if args.stop_time is not None else "periods"] = (
-            args.stop_time if args.stop_time is not None else args.periods)
-    if args.output_interval is not None:
-        run["output_interval"] = args.output_interval
-    if args.fidelity is not None:
-        run["fidelity"] = args.fidelity
-    if args.no_log:
-        data["log"].update(mcap=False, rrd=False)
-    if args.no_rrd:
-        data["log"]["rrd"] = False
-    return scene_mod.parse(data, base.source, base.folder, base.name)
-
-
-def cmd_run(args):
-    sc = scene_from_args(args)
-    params, signal = sc.start_values, sc.make_forcing()
-    stop, h = sc.stop_time, sc.output_interval
-    log = sc.log
-    logs = None
-    mcap, rrd = log.get("mcap", True), log.get("rrd", True)
-    try:
-        if not (mcap or rrd or args.serve or args.connect):
-            result = run(params, signal, stop_time=stop, output_interval=h, fmu=args.fmu)
-        else:
-            logged = run_logged(params, signal, stop_time=stop, output_interval=h, out_dir=args.out,
-                                name=args.name or sc.name, fmu=args.fmu, mcap=mcap, rrd=rrd, serve=args.serve,
-                                connect=args.connect, topics=log.get("mcap_topics"), views=log.get("rerun_views"),
-                                scene=sc.summary())
-            result, logs = logged.result, logged
-    except (FmuError, KeyboardInterrupt) as err:
-        partial = getattr(err, "partial", None)
-        if partial is not None and args.csv_out:
-            partial.write_csv(args.csv_out, sc.outputs)
-            print(f"wrote {args.csv_out} up to t = {partial.data['time'][-1]:.6g} s, where the run failed",
-                  file=sys.stderr)
-        if mcap or rrd:
-            print(f"the log in {args.out}/ reads back up to the failure", file=sys.stderr)
-        raise
-    d = result.data
-    for warning in result.meta.get("warnings", ()):
-        print(f"warning from the FMU: {warning}", file=sys.stderr)
-    print(f"scene {sc.name}: {sc.description}; FMU {result.fmu}")
-    print(f"forcing {signal.kind} {signal.args}; {len(d) - 1} steps of {h:g} s to t = {d['time'][-1]:.6g} s")
-    swing = (f"max |x| of the damper floor {abs(d['x']).max():.6g} m, max |base_shear| "
-             f"{abs(d['base_shear']).max():.6g} N" if "base_shear" in d.dtype.names
-             else f"max |theta| {abs(d['theta']).max():.6g} rad")
-    print(f"impacts {int(d['impacts'][-1])}; {swing}; "
-          f"energy {d['energy'][-1]:.6g} J; dissipated {d['energy_dissipated'][-1]:.6g} J; "
-          f"work in {d['work_in'][-1]:.6g} J; CPU {result.cpu_time:.3f} s")
-    if args.csv_out:
-        result.write_csv(args.csv_out, sc.outputs)
-        print(f"wrote {args.csv_out}")
-    if logs is not None:
-        written = [str(p) for p in (logs.mcap, logs.rrd) if p is not None]
-        print(f"logged to {' and '.join(written)} ({logs.impacts_recorded} impacts recorded individually, "
-              f"{logs.impacts_unrecorded} counted only); CPU with logging {logs.cpu_time:.3f} s")
-    if args.serve:
-        _wait_for_viewers()
-    return 0
+def _own(command, rest):
+    module, _, function = OWN_PARSER[command][0].partition(":")
+    return getattr(importlib.import_module(module), function)(rest)
 
 
 def cmd_replay(args):
+    from .runlog.logged_run import replay, wait_for_viewers
+
     if not (args.out or args.serve or args.connect):
         raise ValueError("replay needs --out FILE.rrd, --serve or --connect URL")
     info = replay(args.mcap, args.out, serve=args.serve, connect=args.connect)
     print(f"replayed run {info['recording_id']} from {args.mcap}" + (f" into {args.out}" if args.out else ""))
     if args.serve:
-        _wait_for_viewers()
+        wait_for_viewers()
     return 0
 
 
-def _wait_for_viewers():
-    print("serving on rerun+http://127.0.0.1:9876/proxy; Ctrl-C to stop", file=sys.stderr)
-    try:
-        while True:
-            time.sleep(1.0)
-    except KeyboardInterrupt:
-        return
+def parser():
+    from .scenes import command as scenes
 
-
-def demo(out_dir="out"):
-    """Build the FMU, run the free-decay and resonance scenes with fmpy (logged to MCAP and .rrd),
-    print the headline figures."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    t_build = time.perf_counter()
-    fmu = find_fmu()
-    print(f"FMU: {fmu} (ready in {time.perf_counter() - t_build:.1f} s)")
-
-    free_scene = scene_mod.load("free-decay")
-    period = 2 * math.pi / free_scene.w2
-    free = _run_scene(free_scene, fmu, out)
-    cpu = time.process_time()
-    with FmuStepper(fmu, free_scene.parameters) as stepper:
-        ratios, peaks = measures.damping_ratio(stepper, period)
-    cpu_measure = time.process_time() - cpu
-    p = free_scene.parameters
-    a0 = p["theta_dot_0"] / free_scene.w2
-    print(f"\nScene free-decay (mu={p['mu']:g}, FR={p['FR']:g}, d={p['d']:g} m, e={p['e']:g}, A0 = {a0:.3g} rad, "
-          f"A0/d = {a0 * Params.from_variables(p).L2 / p['d']:.3g}), displacement form:")
-    print(f"  average damping ratio, first 5 cycles: {ratios['printed']:.4f} (printed formula), "
-          f"{ratios['exact']:.4f} (exact), {ratios['accumulated']:.4f} (accumulated from peak 1)")
-    print(f"  peaks theta_m [rad]: {', '.join(f'{pk.theta:.4f}' for pk in peaks)}")
-    print(f"  impacts in {free_scene.stop_time / period:g} periods: {int(free.data['impacts'][-1])}; "
-          f"CPU: run {free.cpu_time:.3f} s ({len(free.data) - 1} steps), measure {cpu_measure:.3f} s")
-    _print_warnings(free)
-
-    forced_scene = scene_mod.load("resonance")
-    forced = _run_scene(forced_scene, fmu, out)
-    drive = forced_scene.make_forcing()
-    horizon = forced_scene.stop_time
-    values = {**forced_scene.parameters, **drive.start_values}
-    cpu = time.process_time()
-    with FmuStepper(fmu, values) as damped, FmuStepper(fmu, {**values, "mu": 0.0}, instance_name="bare") as bare:
-        ratio, with_d, without = measures.amplitude_ratio(damped, bare, horizon, period / 200)
-    cpu_measure = time.process_time() - cpu
-    q = forced_scene.parameters
-    print(f"\nScene resonance (mu={q['mu']:g}, FR={q['FR']:g}, d={q['d']:g} m, e={q['e']:g}, F0 = 0.01 M g "
-          f"cos(w2 t), horizon {horizon / period:g} periods):")
-    print(f"  amplitude ratio max|theta| with / without damper: {ratio:.4f} "
-          f"({abs(with_d.theta):.5f} / {abs(without.theta):.5f} rad)")
-    print(f"  impacts: {int(forced.data['impacts'][-1])}; CPU: run {forced.cpu_time:.3f} s "
-          f"({len(forced.data) - 1} steps), measure {cpu_measure:.3f} s")
-    _print_warnings(forced)
-    print(f"\nWritten to {out}/: free-decay and resonance as .csv, .mcap (Foxglove) and .rrd "
-          f"(rerun {out}/resonance.rrd)")
-    return 0
-
-
-def _print_warnings(result):
-    for text in result.meta.get("warnings", ()):
-        print("  FMU warning: " + text.partition(": ")[2])
-
-
-def _run_scene(sc, fmu, out):
-    """A scene's logged run into out/, its table as CSV beside the logs."""
-    result = run_logged(sc.start_values, sc.make_forcing(), stop_time=sc.stop_time, output_interval=sc.output_interval,
-                        out_dir=out, name=sc.name, fmu=fmu, topics=sc.log.get("mcap_topics"),
-                        views=sc.log.get("rerun_views"), scene=sc.summary()).result
-    result.write_csv(out / f"{sc.name}.csv", sc.outputs)
-    return result
-
-
-def _bench(rest):
-    from .benchmarks.workprecision import main as bench_main
-    return bench_main(rest)
-
-
-def _cosim(rest):
-    from .cosim import cli_main
-    return cli_main(rest)
-
-
-def _paper(rest):
-    from .paper import main as paper_main
-    return paper_main(rest)
-
-
-def _assess(rest):
-    from .assess import StudyError, main as assess_main
-    try:
-        return assess_main(rest)
-    except (StudyError, FileNotFoundError) as err:
-        print(f"pidamper assess: error: {err}", file=sys.stderr)
-        return 2
-
-
-def _study(rest):
-    from .study import main as study_main
-    return study_main(rest)
-
-
-def _stress(rest):
-    from .benchmarks.stress import main as stress_main
-    return stress_main(rest)
-
-
-def main(argv=None):
-    parser = argparse.ArgumentParser(prog="pidamper", description="Pendulum impact damper FMU harness")
-    sub = parser.add_subparsers(dest="command", required=True)
+    top = argparse.ArgumentParser(prog="pidamper", description="Pendulum impact damper FMU harness")
+    sub = top.add_subparsers(dest="command", required=True)
 
     p_run = sub.add_parser("run", help="run a scene: the FMU with fmpy against a forcing signal, logged")
-    p_run.add_argument("scene", nargs="?", help="a shipped scene (" + ", ".join(scene_mod.shipped())
-                       + ") or a scene file (.toml); default: default. Every option below overrides its field")
-    p_run.add_argument("--fmu", help="FMU file (default: build or reuse dist/PendulumImpactDamper.fmu)")
-    p_run.add_argument("-p", "--param", action="append", type=_parse_param, metavar="NAME=VALUE",
-                       help="FMU parameter or initial state, e.g. -p mu=0.02 -p theta_dot_0=1.5 (repeatable)")
-    p_run.add_argument("--forcing", choices=list(scene_mod.FORCING_ARGS))
-    p_run.add_argument("--F0", type=float, help="force amplitude [N]")
-    p_run.add_argument("--omega", type=float, help="harmonic frequency [rad/s] (default: resonance w2)")
-    p_run.add_argument("--phi", type=float, help="harmonic phase [rad]")
-    p_run.add_argument("--sampled", action="store_true",
-                       help="feed the harmonic through input F (held per step) instead of the built-in force")
-    p_run.add_argument("--omega-start", type=float, help="sweep start [rad/s] (default 0.5 w2)")
-    p_run.add_argument("--omega-end", type=float, help="sweep end [rad/s] (default 1.5 w2)")
-    p_run.add_argument("--csv", help="forcing file with columns time,F [s, N] or time,a_g [s, m/s2]")
-    p_run.add_argument("--stop-time", type=float, help="horizon [s]")
-    p_run.add_argument("--periods", type=float, help="horizon in primary periods")
-    p_run.add_argument("--output-interval", type=float, help="communication step [s]")
-    p_run.add_argument("--fidelity", help="model level: linear, damped, coupled or nonlinear (validated like the scene)")
-    p_run.add_argument("--csv-out", help="write the result table to this CSV file")
-    p_run.add_argument("--out", default="out", help="folder for the run's NAME.mcap and NAME.rrd (default: out)")
-    p_run.add_argument("--name", help="file stem of the logs (default: the scene's name)")
-    p_run.add_argument("--no-log", action="store_true", help="write neither MCAP nor .rrd")
-    p_run.add_argument("--no-rrd", action="store_true", help="write the MCAP only")
-    p_run.add_argument("--serve", action="store_true", help="also serve the recording to Rerun viewers (gRPC)")
-    p_run.add_argument("--connect", metavar="URL", help="also stream to a Rerun viewer, e.g. rerun+http://host:9876/proxy")
-    p_run.set_defaults(func=cmd_run)
+    scenes.add_arguments(p_run)
+    p_run.set_defaults(func=scenes.run_command)
 
     p_replay = sub.add_parser("replay", help="turn a run's MCAP into a Rerun recording")
     p_replay.add_argument("mcap", help="the run's .mcap")
@@ -274,20 +63,18 @@ def main(argv=None):
 
     p_demo = sub.add_parser("demo", help="build the FMU, run free decay and resonance, print headline figures")
     p_demo.add_argument("--out", default="out", help="folder for the CSV, MCAP and .rrd files (default: out)")
-    p_demo.set_defaults(func=lambda a: demo(a.out))
+    p_demo.set_defaults(func=lambda a: scenes.demo(a.out))
 
-    sub.add_parser("bench", help="work-precision benchmark (pidamper bench --help)")
-    sub.add_parser("stress", help="hard-case stability table (pidamper stress --help)")
-    sub.add_parser("study", help="parametric study over a grid (pidamper study --help)")
-    sub.add_parser("paper", help="regenerate the paper's figures for both readings (pidamper paper --help)")
-    sub.add_parser("cosim", help="the damper unit FMU on the ShearBuilding FMU, co-simulated (pidamper cosim --help)")
-    sub.add_parser("assess", help="performance-based assessment: suite, stripes, fragility, risk (pidamper assess --help)")
+    for command, (_, text) in OWN_PARSER.items():
+        sub.add_parser(command, help=text)
+    return top
 
+
+def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
-    own = {"bench": _bench, "stress": _stress, "study": _study, "paper": _paper, "cosim": _cosim, "assess": _assess}
-    if argv and argv[0] in own:  # their own parsers take the rest
-        return own[argv[0]](argv[1:])
-    args = parser.parse_args(argv)
+    if argv and argv[0] in OWN_PARSER:  # their own parsers take the rest
+        return _own(argv[0], argv[1:])
+    args = parser().parse_args(argv)
     try:
         return args.func(args)
     except (ValueError, FileNotFoundError, KeyError, FmuError) as err:

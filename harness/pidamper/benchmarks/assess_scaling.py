@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import assess
+from ..assessment import assess
 from ..machine import cpu_model
 
 #: the larger study the figures are extrapolated to (a FEMA P-695-size far-field set: 22 pairs = 44

@@ -14,10 +14,10 @@ import scipy.linalg
 from pidamper_physics import Damper, Params
 from pidamper_physics.building import ShearBuilding
 
-from .. import scene as scene_mod
+from ..scenes import scene as scene_mod
 from ..oracles.building_reference import simulate
 from ..machine import describe
-from ..simulation import run
+from ..running.simulation import run
 
 MASSES = [1.0e5, 1.2e5, 0.9e5, 1.1e5, 1.0e5, 0.8e5, 1.3e5, 1.0e5, 0.9e5, 1.2e5]
 STIFF = [2.0e8, 1.6e8, 1.2e8, 1.8e8, 1.5e8, 1.1e8, 1.9e8, 1.4e8, 1.3e8, 1.7e8]

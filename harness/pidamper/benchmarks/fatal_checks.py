@@ -1,11 +1,11 @@
 """Checks that make the FMU refuse a call on purpose (fmi2Error through the native layer, fmi2Fatal
-without it); run them through pidamper.isolated (a child process each)."""
+without it); run them through pidamper.running.isolated (a child process each)."""
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
 from ..forcing import Forcing
-from ..simulation import FmuError, run
-from ..stepper import FmuStepper
+from ..running.simulation import FmuError, run
+from ..running.stepper import FmuStepper
 
 FREE = {"theta_dot_0": 2.1924643668712155}
 
@@ -73,7 +73,7 @@ def percent_in_instance_name(fmu, instance="damper%s%n%d"):
     """A refused parameter in an instance whose name holds printf conversions: the host's
     logger takes the model's text as a format, so the FMU must escape them (a bare %n or %s
     crashes fmpy).  Returns the logged text of the error, or None if nothing was refused."""
-    from ..instance import FmuInstance
+    from ..running.instance import FmuInstance
 
     texts = []
     try:

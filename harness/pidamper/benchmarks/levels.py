@@ -24,8 +24,8 @@ import numpy as np
 from pidamper_physics import Damper, Params
 from pidamper_physics.params import LEVELS
 
-from ..fmu import find_fmu
-from ..simulation import run as run_fmu
+from ..running.fmu import find_fmu
+from ..running.simulation import run as run_fmu
 from ..machine import describe
 
 W2 = math.sqrt(9.81)

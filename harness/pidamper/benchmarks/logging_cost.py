@@ -12,9 +12,9 @@ import time
 from pathlib import Path
 
 from .. import forcing
-from ..fmu import find_fmu
+from ..running.fmu import find_fmu
 from ..runlog.logged_run import run_logged
-from ..simulation import run
+from ..running.simulation import run
 
 W2 = math.sqrt(9.81)
 PERIOD = 2 * math.pi / W2

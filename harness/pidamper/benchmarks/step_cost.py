@@ -20,7 +20,7 @@ from pathlib import Path
 
 import fmpy
 
-from ..fmu import find_fmu
+from ..running.fmu import find_fmu
 from ..machine import describe
 from . import floor
 from .impact_cost import CASES as IMPACT_CASES, cost_per_impact

@@ -14,8 +14,8 @@ import time
 
 import numpy as np
 
-from ..fmu import find_fmu
-from ..stepper import FmuStepper
+from ..running.fmu import find_fmu
+from ..running.stepper import FmuStepper
 
 W2 = math.sqrt(9.81)
 PERIOD = 2 * math.pi / W2
@@ -258,9 +258,9 @@ def long_run_memory(fmu, quick=False):
 
 def bad_input(fmu, quick=False):
     """NaN/inf input, NaN/negative/zero parameters, e > 1, a step back, a fixed parameter after init.
-    Each provokes fmi2Fatal, so each runs in a child process (pidamper.isolated): this host
+    Each provokes fmi2Fatal, so each runs in a child process (pidamper.running.isolated): this host
     process survives and goes on using the FMU."""
-    from .. import isolated
+    from ..running import isolated
 
     found = []
     for name, value in (("M", float("nan")), ("L2", -1.0), ("d", 0.0), ("e", 1.2), ("g", float("inf"))):

@@ -21,10 +21,10 @@ from pathlib import Path
 import fmpy
 import numpy as np
 
-from ..fmu import find_fmu
+from ..running.fmu import find_fmu
 from ..machine import describe
 from ..measures import max_abs_theta
-from ..stepper import CoreStepper
+from ..running.stepper import CoreStepper
 from . import metrics
 from ..oracles.cases import CASES
 from ..oracles.odesolvers import IvpSolver, Rk4Solver, Stall
@@ -152,7 +152,7 @@ class Bench:
         return metrics.window_peaks(ext, c.period, c.horizon)
 
     def _fmu(self, ref, ref_measure):
-        from ..stepper import FmuStepper
+        from ..running.stepper import FmuStepper
         c = self.case
         fmu_measure = None
         if not c.sampled:

@@ -15,8 +15,8 @@ from pathlib import Path
 
 from fmpy.fmi1 import FMICallException
 
-from ..fmu import find_fmu
-from ..instance import FmuInstance
+from ..running.fmu import find_fmu
+from ..running.instance import FmuInstance
 
 #: (label, parameters, h [s], steps)
 CASES = [

@@ -7,6 +7,7 @@ what was collected is written, a note says where and why it stopped, and both
 files are closed so they read back up to the failure.
 """
 import signal
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,11 +15,11 @@ from pathlib import Path
 import numpy as np
 
 from . import rerun_log
-from ..fmu import find_fmu
+from ..running.fmu import find_fmu
 from ..forcing import none
 from .mcap_log import McapLog, read_floors, read_run
 from .schema import IMPACT_DTYPE, STATE_DTYPE, STATE_FIELDS, floors_dtype, geometry, run_info
-from ..simulation import FmuError, floor_columns, run
+from ..running.simulation import FmuError, floor_columns, run
 
 IMPACT_SLOTS = 16
 INPUTS = ("F", "a_g")  # state columns that come from the forcing, not from the FMU
@@ -252,3 +253,13 @@ def replay(mcap_path, rrd_path=None, serve=False, connect=None):
         sinks.note(*note)
     sinks.close()
     return info
+
+
+def wait_for_viewers():
+    """Keep a served recording up until Ctrl-C."""
+    print("serving on rerun+http://127.0.0.1:9876/proxy; Ctrl-C to stop", file=sys.stderr)
+    try:
+        while True:
+            time.sleep(1.0)
+    except KeyboardInterrupt:
+        return

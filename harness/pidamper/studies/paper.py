@@ -26,8 +26,8 @@ import numpy as np
 
 from pidamper_physics import OUTSIDE, Damper, Params
 
-from .measures import damping_ratio, max_abs_theta
-from .stepper import CoreStepper
+from ..measures import damping_ratio, max_abs_theta
+from ..running.stepper import CoreStepper
 
 G, L2, M = 9.81, 1.0, 1.0
 W2 = math.sqrt(G / L2)

@@ -48,12 +48,13 @@ import numpy as np
 
 from pidamper_physics import Params
 
-from . import fragility, ground_motion, spectra
-from .errors import FieldError
-from .forcing import Forcing
-from .machine import cpu_model
-from .scene import FIDELITY, fmu_values
-from .study import Table, add_runner_arguments, run_table
+from . import fragility
+from ..forcing import ground_motion, spectra
+from ..errors import FieldError
+from ..forcing import Forcing
+from ..machine import cpu_model
+from ..scenes.scene import FIDELITY, fmu_values
+from ..studies.runner import Table, add_runner_arguments, run_table
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -247,8 +248,8 @@ def tasks(study):
 
 def run_task(task, engine="fmu", path=None):
     """Demands of one run (see the module doc): a row of the tidy table."""
-    from .simulation import run
-    from .stepper import CoreStepper
+    from ..running.simulation import run
+    from ..running.stepper import CoreStepper
 
     accel = task["factor"] * np.asarray(task["accel"])
     times = task["dt"] * np.arange(len(accel))
@@ -293,7 +294,7 @@ def run_task(task, engine="fmu", path=None):
 
 def run_study(study, out, engine="fmu", workers=None, dask=False, scheduler=None, fmu=None, progress=True):
     """Run every task not yet in OUT/runs.csv; the tidy rows, in task order."""
-    from .fmu import find_fmu
+    from ..running.fmu import find_fmu
 
     todo_all = tasks(study)
     columns = ["key", "record", "record_index", "level", "im_record", "factor", "configuration"] + list(DEMANDS)
@@ -521,3 +522,12 @@ def main(argv=None):
         print(f"{state}: " + ", ".join(f"MAF {c} {v:.3g}/yr" for c, v in values.items()) +
               "".join(f"; ratio {c} {r:.3g}" for c, r in ratios.items()))
     return 0
+
+
+def cli_main(argv=None):
+    """pidamper assess: main(argv), a study file's error printed with exit status 2."""
+    try:
+        return main(argv)
+    except (StudyError, FileNotFoundError) as err:
+        print(f"pidamper assess: error: {err}", file=sys.stderr)
+        return 2

@@ -9,42 +9,12 @@ ground acceleration a_g(t) [m/s2] of a base excitation (input a_g, acting on bot
 import csv
 import hashlib
 import math
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-
-@dataclass(frozen=True)
-class Forcing:
-    """kind and args describe the signal (for logs); see the generator functions."""
-
-    kind: str
-    args: dict = field(default_factory=dict)
-    start_values: dict = field(default_factory=dict)  # FMU parameters it sets (built-in harmonic)
-    signal: object = None  # callable on numpy arrays of time, or None
-    table: object = None  # (time, value) arrays of a recorded signal, or None
-    target: str = "F"  # the FMU input it drives: "F" [N] or "a_g" [m/s2]
-
-    def value(self, t):
-        """The signal [N or m/s2] at time(s) t (0 without an external signal)."""
-        if self.table is not None:
-            times, values = self.table
-            return np.interp(t, times, values)
-        if self.signal is None:
-            return np.zeros_like(np.asarray(t, dtype=float))
-        return self.signal(np.asarray(t, dtype=float))
-
-    def input_array(self, times):
-        """fmpy input (structured array time, F, a_g; the input not driven is 0) sampled on the
-        communication grid, or None."""
-        if self.signal is None and self.table is None:
-            return None
-        times = np.asarray(times, dtype=float)
-        signal = np.zeros(len(times), dtype=[("time", np.float64), ("F", np.float64), ("a_g", np.float64)])
-        signal["time"] = times
-        signal[self.target] = self.value(times)
-        return signal
+from . import ground_motion
+from .base import Forcing
 
 
 def none():
@@ -104,27 +74,22 @@ def from_csv(path):
 
 
 def kanai_tajimi(duration, dt=0.005, pga=2.0, omega_g=15.6, zeta_g=0.6, seed=1, rise=2.0, strong=None):
-    """A synthetic accelerogram a_g(t) [m/s2]: white noise (fixed seed) through the Kanai-Tajimi
-    filter (ground frequency omega_g [rad/s], damping zeta_g), shaped by a Jennings envelope (rise
-    `rise` s, strong motion until `strong` s, then exponential decay) and scaled to peak `pga`."""
-    from scipy import signal as sps
-
+    """A synthetic accelerogram a_g(t) [m/s2] on input a_g: `ground_motion.kanai_tajimi` (white noise
+    through the Kanai-Tajimi filter of ground frequency omega_g [rad/s] and damping zeta_g, simulated
+    exactly, from rest, seed `seed`) shaped by a Jennings envelope (quadratic rise over `rise` s,
+    strong motion until `strong` s, default max(duration / 2, rise), then exp(-0.5 (t - strong)))
+    and scaled to the peak `pga`."""
     args = {"duration": float(duration), "dt": float(dt), "pga": float(pga), "omega_g": float(omega_g),
             "zeta_g": float(zeta_g), "seed": int(seed), "rise": float(rise)}
     _check_finite(args)
     for name in ("duration", "dt", "omega_g", "zeta_g", "pga"):
         if args[name] <= 0:
             raise ValueError(f"{name} = {args[name]!r} is not allowed: it must be > 0")
-    strong = 0.5 * duration if strong is None else float(strong)
-    t = np.arange(0.0, duration + 0.5 * dt, dt)
-    noise = np.random.default_rng(seed).standard_normal(len(t)) / math.sqrt(dt)
-    kt = sps.lti([2 * zeta_g * omega_g, omega_g ** 2], [1.0, 2 * zeta_g * omega_g, omega_g ** 2])
-    _, filtered, _ = sps.lsim(kt, noise, t)
-    envelope = np.where(t < rise, (t / rise) ** 2, np.where(t < strong, 1.0, np.exp(-0.5 * (t - strong))))
-    accel = filtered * envelope
-    accel *= pga / np.max(np.abs(accel))
-    args["strong"] = strong
-    return Forcing("kanai-tajimi", args, table=(t, accel), target="a_g")
+    args["strong"] = max(0.5 * args["duration"], args["rise"]) if strong is None else float(strong)
+    shape = {"kind": "jennings", "t1": args["rise"], "t2": args["strong"], "c": 0.5}
+    record = ground_motion.kanai_tajimi(args["duration"], args["dt"], args["omega_g"], args["zeta_g"], pga=args["pga"],
+                                        seed=args["seed"], envelope=shape, start="rest")
+    return Forcing("kanai-tajimi", args, table=(record.time, np.array(record.accel)), target="a_g")
 
 
 def _check_finite(args):

@@ -46,6 +46,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .base import Forcing
+
 G_STANDARD = 9.80665  # m/s2, standard gravity (3rd CGPM 1901; ISO 80000-3): the "g" of an AT2 file
 
 __all__ = ["G_STANDARD", "Record", "RecordError", "read_at2", "read_csv", "write_at2", "read_record",
@@ -107,8 +109,6 @@ class Record:
     def to_forcing(self):
         """A `forcing.Forcing` driving the FMU input a_g with this record (linear interpolation
         between samples; the FMU holds the value sampled at each communication step)."""
-        from .forcing import Forcing
-
         return Forcing("record", {"name": self.name, "source": self.source, "dt": self.dt, "npts": self.npts},
                        table=(self.time, np.array(self.accel)), target="a_g")
 

@@ -18,7 +18,7 @@ from fmpy.fmi1 import FMICallException
 from pidamper_physics import Params
 
 from .fmu import find_fmu
-from .forcing import Forcing, none
+from ..forcing import Forcing, none
 
 OUTPUTS = ("theta", "theta_dot", "alpha", "alpha_dot", "x", "y", "z", "a", "impacts", "contact",
            "contact_force", "energy", "energy_dissipated", "energy_viscous", "work_in")

@@ -27,11 +27,11 @@ from pathlib import Path
 
 from pidamper_physics.params import LEVELS, MAX_STOREYS
 
-from . import forcing as forcing_mod
-from .errors import FieldError
-from .runlog.mcap_log import TOPICS as MCAP_TOPICS
-from .runlog.rerun_log import VIEWS as RERUN_VIEWS
-from .simulation import OUTPUTS, building_outputs, resonance
+from .. import forcing as forcing_mod
+from ..errors import FieldError
+from ..runlog.mcap_log import TOPICS as MCAP_TOPICS
+from ..runlog.rerun_log import VIEWS as RERUN_VIEWS
+from ..running.simulation import OUTPUTS, building_outputs, resonance
 
 if sys.version_info >= (3, 11):
     import tomllib

@@ -1,0 +1,5 @@
+"""Running the FMU: locate or build it (`fmu`), one FMU wrapper (`instance`: unpack, instantiate,
+initialise, set/get by name, step, free), whole runs with fmpy against a forcing signal
+(`simulation`), step-by-step drivers with save and restore over the FMU or the physics core
+(`stepper`), and calls in a child process for checks that may crash (`isolated`).  It may import
+the physics core, build_fmu and the inputs (pidamper.forcing); nothing else of the harness."""

@@ -1,0 +1,123 @@
+"""The resumable runner of studies and assessments: a table appended row by row (the resume record)
+and the execution of a module-level task over points on a local process pool, a local Dask cluster
+or a Dask scheduler (which receives the FMU file itself)."""
+import csv
+import hashlib
+import os
+import sys
+import tempfile
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+
+
+class Table:
+    """The study's CSV, appended row by row (the resume record)."""
+
+    def __init__(self, path, columns):
+        self.path = Path(path)
+        self.columns = columns
+        self.done = {}
+        if self.path.exists() and self.path.stat().st_size:
+            with self.path.open(newline="") as handle:
+                for row in csv.DictReader(handle):
+                    self.done[row["key"]] = row
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        fresh = not self.done
+        self.handle = self.path.open("a" if not fresh else "w", newline="")
+        self.writer = csv.DictWriter(self.handle, fieldnames=columns, extrasaction="ignore")
+        if fresh:
+            self.writer.writeheader()
+            self.handle.flush()
+
+    def add(self, row):
+        self.writer.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in row.items()})
+        self.handle.flush()
+        self.done[row["key"]] = row
+
+    def close(self):
+        self.handle.close()
+
+
+def run_table(task, todo_all, keys, table, engine, path, workers, dask, scheduler, progress, desc):
+    """Run task(point, engine, path) for every point whose key is not in `table` yet, adding each
+    row as it finishes (the resume record), with a progress bar on a terminal; closes the table."""
+    from tqdm import tqdm
+
+    todo = [p for p, k in zip(todo_all, keys) if k not in table.done]
+    bar = tqdm(total=len(todo_all), initial=len(todo_all) - len(todo), disable=None if progress else True,
+               desc=desc, unit="run", file=sys.stderr)
+    try:
+        for row in execute(task, todo, engine, path, workers, dask, scheduler):
+            table.add(row)
+            bar.update(1)
+    finally:
+        bar.close()
+        table.close()
+
+
+def execute(task, todo, engine, path, workers=None, dask=False, scheduler=None):
+    """Yield task(point, engine, path) for every point of `todo` as they finish: on a local process
+    pool (default, `workers` processes), a local Dask cluster (dask) or a Dask scheduler, which
+    receives the FMU file itself.  `task` must be a module-level function (it is pickled)."""
+    if not todo:
+        return
+    if dask or scheduler:
+        yield from _execute_dask(task, todo, engine, path, workers, scheduler)
+        return
+    with ProcessPoolExecutor(max_workers=workers or os.cpu_count()) as pool:
+        futures = [pool.submit(task, p, engine, path) for p in todo]
+        for future in as_completed(futures):
+            yield future.result()
+
+
+def _execute_dask(task, todo, engine, path, workers, scheduler):
+    from dask.distributed import Client, LocalCluster, as_completed as dask_completed
+
+    cluster = None
+    if scheduler:
+        client = Client(scheduler)
+    else:
+        cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1, processes=True,
+                               dashboard_address=None)
+        client = Client(cluster)
+    try:
+        if path is not None:
+            data = Path(path).read_bytes()
+            digest = hashlib.sha256(data).hexdigest()[:16]
+            shipped = client.scatter(data, broadcast=True)
+            futures = [client.submit(_run_shipped, task, p, engine, shipped, digest, pure=False) for p in todo]
+        else:
+            futures = [client.submit(task, p, engine, None, pure=False) for p in todo]
+        for future in dask_completed(futures):
+            yield future.result()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def write_parquet(csv_path, parquet_path):
+    import pyarrow.csv as pacsv
+    import pyarrow.parquet as pq
+
+    pq.write_table(pacsv.read_csv(csv_path), parquet_path)
+
+
+def _run_shipped(task, point, engine, fmu_bytes, digest):
+    """A worker's task: write the shipped FMU once per digest, then task(point, engine, path)."""
+    path = Path(tempfile.gettempdir()) / f"pidamper-{digest}.fmu"
+    if not path.exists():
+        tmp = path.with_suffix(f".{os.getpid()}.part")
+        tmp.write_bytes(fmu_bytes)
+        tmp.replace(path)
+    return task(point, engine, path)
+
+
+def add_runner_arguments(parser):
+    """--engine, --workers, --dask, --scheduler, --fmu: how the runs of a study or an assessment go."""
+    parser.add_argument("--engine", choices=("fmu", "core"), default="fmu",
+                        help="run the FMU through fmpy (default) or the physics core directly")
+    parser.add_argument("--workers", type=int, help="processes (default: one per core)")
+    parser.add_argument("--dask", action="store_true", help="use a local Dask cluster")
+    parser.add_argument("--scheduler", help="Dask distributed scheduler address, e.g. tcp://host:8786")
+    parser.add_argument("--fmu", help="FMU file (default: build or reuse dist/PendulumImpactDamper.fmu)")
