@@ -1,6 +1,6 @@
 """Drive the physics core of one source tree over the equivalence cases and print every value.
 
-Run as `PYTHONPATH=TREE/fmu_src python tools/core_cases.py` (tools/equivalence.py does it for the
+Run as `PYTHONPATH=TREE/fmu_src python tools/core_cases.py [--perturb-mu]` (tools/equivalence.py does it for the
 merge-base tree and the new one): it imports `pidamper_physics` from that tree only, steps each case
 with the public API (Damper, DamperUnit, ShearMotion) and prints one JSON object
 {case: [[value, ...] per step]} with every float as its repr, so that two trees can be compared bit
@@ -104,8 +104,12 @@ def run_unit_with_building(params, steps):
 
 
 def main():
+    """Every case's values as JSON; with --perturb-mu, mu is one ulp larger in the pendulum cases
+    (the conditioning of each case: how far one ulp of one input moves its outputs)."""
     out = {}
     for name, params, start, steps, force, ground in pendulum_cases():
+        if "--perturb-mu" in sys.argv:
+            params = dict(params, mu=Params(**params).mu * (1.0 + 2.0 ** -52))
         try:
             out[name] = run_damper(params, start, steps, force, ground)
         except Exception as err:  # a refusal is an outcome to compare too

@@ -14,37 +14,7 @@ Plain Python (math): this ships inside the FMU.
 """
 import math
 
-
-def jacobi_eigh(a, sweeps=100):
-    """Eigenvalues (ascending) and orthonormal eigenvectors (as columns) of the symmetric matrix
-    a (nested lists), by cyclic Jacobi rotations: accurate to rounding for small n."""
-    n = len(a)
-    a = [list(map(float, row)) for row in a]
-    vec = [[1.0 if i == j else 0.0 for j in range(n)] for i in range(n)]
-    for _ in range(sweeps):
-        off = sum(a[i][j] * a[i][j] for i in range(n) for j in range(i + 1, n))
-        if off <= 1e-36 * sum(a[i][i] * a[i][i] for i in range(n)):
-            break
-        for p in range(n - 1):
-            for q in range(p + 1, n):
-                apq = a[p][q]
-                if apq == 0.0:
-                    continue
-                theta = (a[q][q] - a[p][p]) / (2.0 * apq)
-                t = math.copysign(1.0, theta) / (abs(theta) + math.sqrt(theta * theta + 1.0))
-                c = 1.0 / math.sqrt(t * t + 1.0)
-                s = t * c
-                for k in range(n):  # columns p, q
-                    akp, akq = a[k][p], a[k][q]
-                    a[k][p], a[k][q] = c * akp - s * akq, s * akp + c * akq
-                for k in range(n):  # rows p, q
-                    apk, aqk = a[p][k], a[q][k]
-                    a[p][k], a[q][k] = c * apk - s * aqk, s * apk + c * aqk
-                for k in range(n):
-                    vkp, vkq = vec[k][p], vec[k][q]
-                    vec[k][p], vec[k][q] = c * vkp - s * vkq, s * vkp + c * vkq
-    order = sorted(range(n), key=lambda i: a[i][i])
-    return [a[i][i] for i in order], [[vec[k][i] for i in order] for k in range(n)]
+from .eigen import jacobi_eigh
 
 
 class ShearBuilding:

@@ -19,14 +19,11 @@ keeps the other floors' state in `others` (x_k, then v_k, for k != j), carries i
 the Damper takes (follow) and saves it with the Damper's state (get_state: key "others").  Both the free (N+1)-DOF system and
 the riding N-DOF one are solved in closed form by modes (modal.py).
 """
-import math
-
 from .impact import collide, impact_loss
 from .level_model import LevelModel
-from .modal import Modes, ModesError, Motion
-from .modal_segments import _ORDERS, ModalFlight, harmonic_work
+from .modal import Modes, ModesError
+from .modal_segments import ModalFlight, ModalStick, harmonic_work
 from .params import ParameterError, check_finite
-from .segments import TOLERANCE, noise_size
 
 
 def _per_mass(matrix, masses):
@@ -147,7 +144,7 @@ class BuildingModel(LevelModel):
         a = p.F0 / mr
         # N/m = x_j'' + a_g - w1^2 side d = row j of the ride system, plus constants
         contact = ([-k for k in self.Kr[j]], [-c for c in self.Cr[j]], b[j] - p.w1 * p.w1 * side * p.d - fc[1])
-        return BuildingStick(self.ride, z0, j, side, p.d, b, a, p.Omega, psi, T, contact)
+        return ModalStick(self.ride, z0, j, side, p.d, b, a, p.Omega, psi, T, contact)
 
     def snap(self, x, v, y, u, side):
         return x, v, x - side * self.p.d, u
@@ -269,87 +266,3 @@ class BuildingFlight(ModalFlight):
         if i == 0:
             return self.D - g, -g1, -g2, -g3
         return self.D + g, g1, g2, g3
-
-
-class BuildingStick:
-    """The particle rides stop `sgn` of floor j: z = (x_1..x_N, v_1..v_N) follows the riding
-    system; guard = sgn N/m, N/m = kx . x + kv . v + k0 + a sin(Omega tau + psi)."""
-
-    reach = math.inf
-    __slots__ = ("motion", "j", "n", "sgn", "d", "a", "om", "kx", "kv", "k0", "K", "C", "b", "bounds", "noise",
-                 "growth", "clear", "_tau", "_z", "start_floors")
-
-    def __init__(self, system, z0, j, sgn, d, b, a, om, psi, T, contact):
-        modes, K, C = system
-        n = modes.n
-        f = None
-        if a != 0.0:
-            f = [0.0] * n
-            f[j] = a
-        self.motion = motion = Motion(modes, z0, b, f, om, psi)
-        self.j, self.n, self.sgn, self.d, self.a, self.om, self.K, self.C, self.b = j, n, sgn, d, a, om, K, C, b
-        self.kx, self.kv, self.k0 = contact
-        self._tau, self._z = 0.0, z0
-        self.start_floors = z0[:n]
-        self.growth = max(modes.fastest, om if a != 0.0 else 0.0)
-        aa = abs(a)
-        # the guard's linear part c . z = kx . x + kv . v, as a row over the modes, and its bounds
-        V = modes.V
-        row = [sum(self.kx[i] * V[i][k] + self.kv[i] * V[n + i][k] for i in range(n)) for k in range(len(modes.lam))]
-        bound = motion.bounds(T, _ORDERS, vectors=[row])[0]
-        rest = motion.rest(vectors=[row])[0]
-        self.bounds = tuple(bound[o] + aa * om ** o for o in (2, 3, 4))
-        size = sum(abs(self.kx[i]) * abs(z0[i]) + abs(self.kv[i]) * abs(z0[n + i]) for i in range(n))
-        self.noise = (TOLERANCE * (abs(self.k0) + noise_size(abs(rest) + bound[0], size + T * bound[1], d) + aa),) + \
-            tuple(TOLERANCE * (bound[o] + aa * om ** o) for o in (1, 2, 3))
-        start = sgn * (sum(self.kx[i] * z0[i] + self.kv[i] * z0[n + i] for i in range(n)) + self.k0 + a * math.sin(psi))
-        floor = max(sgn * (self.k0 + rest) - bound[0] - aa, start - T * (bound[1] + aa * om))  # least s N/m on [0, T]
-        self.clear = floor > self.noise[0] * (1.0 + self.growth * T)
-
-    def state(self, tau):
-        if tau != self._tau:
-            self._tau, self._z = tau, self.motion.state(tau)
-        return self._z
-
-    def floors_at(self, tau):
-        return self.state(tau)[:self.n]
-
-    def others(self, tau):
-        z = self.state(tau)
-        j, n = self.j, self.n
-        return z[:j] + z[j + 1:n] + z[n:n + j] + z[n + j + 1:]
-
-    def positions(self, tau):
-        z = self.state(tau)
-        x, v = z[self.j], z[self.n + self.j]
-        return x, v, x - self.sgn * self.d, v
-
-    def _chain(self, tau):
-        """z, its acceleration and jerk vectors, and sin, cos of the load at tau."""
-        z = self.state(tau)
-        n, K, C, b, a, om = self.n, self.K, self.C, self.b, self.a, self.om
-        s, c = self.motion.load(tau)
-        x, v = z[:n], z[n:]
-        acc = [b[r] - sum(K[r][k] * x[k] for k in range(n)) - sum(C[r][k] * v[k] for k in range(n)) for r in range(n)]
-        acc[self.j] += a * s
-        jerk = [-sum(K[r][k] * v[k] for k in range(n)) - sum(C[r][k] * acc[k] for k in range(n)) for r in range(n)]
-        jerk[self.j] += a * om * c
-        snap = [-sum(K[r][k] * acc[k] for k in range(n)) - sum(C[r][k] * jerk[k] for k in range(n)) for r in range(n)]
-        snap[self.j] -= a * om * om * s
-        return x, v, acc, jerk, snap, s, c
-
-    def values(self, tau):
-        x, v, acc, _, _, s, c = self._chain(tau)
-        sg, kx, kv, a, om = self.sgn, self.kx, self.kv, self.a, self.om
-        rng = range(self.n)
-        return (sg * (sum(kx[i] * x[i] + kv[i] * v[i] for i in rng) + self.k0 + a * s),
-                sg * (sum(kx[i] * v[i] + kv[i] * acc[i] for i in rng) + a * om * c))
-
-    def derivs(self, tau, i=0):
-        x, v, acc, jerk, snap, s, c = self._chain(tau)
-        sg, kx, kv, a, om = self.sgn, self.kx, self.kv, self.a, self.om
-        rng = range(self.n)
-        return (sg * (sum(kx[k] * x[k] + kv[k] * v[k] for k in rng) + self.k0 + a * s),
-                sg * (sum(kx[k] * v[k] + kv[k] * acc[k] for k in rng) + a * om * c),
-                sg * (sum(kx[k] * acc[k] + kv[k] * jerk[k] for k in rng) - a * om * om * s),
-                sg * (sum(kx[k] * jerk[k] + kv[k] * snap[k] for k in rng) - a * om ** 3 * c))

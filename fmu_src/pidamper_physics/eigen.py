@@ -1,4 +1,8 @@
-"""General eigen-solver for the modes of q'' + C q' + K q (any n), plain Python (math, cmath).
+"""The eigen-solvers and linear solvers of the physics, plain Python (math, cmath): `jacobi_eigh` for
+a symmetric matrix (the undamped modes of a shear building: cyclic Jacobi, accurate to rounding,
+real orthonormal vectors), `pencil_modes` for the modes of q'' + C q' + K q (any n, complex modes)
+with its LU (`lu_factor`, `lu_solve`, `inverse_rows`), and the 2-DOF closed forms modal.Modes keeps
+for n <= 2 (`quartic_roots`, `gauss_solve`: measured more accurate there, see their docstrings).
 
 Conventions: matrices are nested lists, `a[i][j]` = row i, column j; K and C are real n x n and
 need not be symmetric (M^-1 K, M^-1 C of a lumped system, C non-proportional in general).  The
@@ -31,6 +35,38 @@ MAX_ITERATIONS = 30  # QR iterations per eigenvalue, on average, before EigenErr
 
 class EigenError(ArithmeticError):
     """The eigen-solver failed (QR did not converge, or the spectrum is not that of a real matrix)."""
+
+
+def jacobi_eigh(a, sweeps=100):
+    """Eigenvalues (ascending) and orthonormal eigenvectors (as columns) of the symmetric matrix
+    a (nested lists), by cyclic Jacobi rotations: accurate to rounding for small n."""
+    n = len(a)
+    a = [list(map(float, row)) for row in a]
+    vec = [[1.0 if i == j else 0.0 for j in range(n)] for i in range(n)]
+    for _ in range(sweeps):
+        off = sum(a[i][j] * a[i][j] for i in range(n) for j in range(i + 1, n))
+        if off <= 1e-36 * sum(a[i][i] * a[i][i] for i in range(n)):
+            break
+        for p in range(n - 1):
+            for q in range(p + 1, n):
+                apq = a[p][q]
+                if apq == 0.0:
+                    continue
+                theta = (a[q][q] - a[p][p]) / (2.0 * apq)
+                t = math.copysign(1.0, theta) / (abs(theta) + math.sqrt(theta * theta + 1.0))
+                c = 1.0 / math.sqrt(t * t + 1.0)
+                s = t * c
+                for k in range(n):  # columns p, q
+                    akp, akq = a[k][p], a[k][q]
+                    a[k][p], a[k][q] = c * akp - s * akq, s * akp + c * akq
+                for k in range(n):  # rows p, q
+                    apk, aqk = a[p][k], a[q][k]
+                    a[p][k], a[q][k] = c * apk - s * aqk, s * apk + c * aqk
+                for k in range(n):
+                    vkp, vkq = vec[k][p], vec[k][q]
+                    vec[k][p], vec[k][q] = c * vkp - s * vkq, s * vkp + c * vkq
+    order = sorted(range(n), key=lambda i: a[i][i])
+    return [a[i][i] for i in order], [[vec[k][i] for i in order] for k in range(n)]
 
 
 def balance(a):
@@ -198,6 +234,61 @@ def lu_solve(factors, b):
         row = m[r]
         y[r] = (y[r] - sum(row[c] * y[c] for c in range(r + 1, n))) / row[r]
     return y
+
+
+def quartic_roots(c3, c2, c1, c0, guesses):
+    """Roots of l^4 + c3 l^3 + c2 l^2 + c1 l + c0 (Durand-Kerner, then Newton polish): the 2-DOF
+    modes in closed form.  Kept beside pencil_modes (QR, then inverse iteration), which through
+    the ill-conditioned case of gauss_solve (coupled level, g = 1e-15) gives x(1 s) to 2e-8 (its
+    eigenvalues with the explicit 2-DOF shapes) or 1e-7 (its vectors too) instead of 2e-10."""
+    def p(x):
+        return (((x + c3) * x + c2) * x + c1) * x + c0
+
+    def dp(x):
+        return ((4.0 * x + 3.0 * c3) * x + 2.0 * c2) * x + c1
+
+    roots = list(guesses)
+    for _ in range(500):
+        moved = 0.0
+        for i, r in enumerate(roots):
+            den = 1.0 + 0j
+            for j, s in enumerate(roots):
+                if j != i:
+                    den *= r - s
+            step = p(r) / den
+            roots[i] = r - step
+            moved = max(moved, abs(step) / max(abs(r), 1e-300))
+        if moved < 1e-15:
+            break
+    for i, r in enumerate(roots):  # Newton: quadratic convergence to full precision
+        for _ in range(3):
+            d = dp(r)
+            if d == 0:
+                break
+            r = r - p(r) / d
+        roots[i] = r
+    return roots
+
+
+def gauss_solve(a, b):
+    """x with a x = b (complex Gauss elimination with partial pivoting, the right-hand side eliminated
+    with a; a is n x n).  Kept beside lu_factor/lu_solve for the 2-DOF modes (modal.Modes, n <= 2):
+    on the coupled level at g = 1e-15 it holds x(1 s) to 2e-10, where lu_factor/lu_solve of V by
+    columns give 4e-8 and of V^T (inverse_rows) 4e-9 (tests/test_edges.py::
+    test_small_g_under_a_force_is_exact; V is ill-conditioned there)."""
+    n = len(a)
+    m = [list(row) + [b[i]] for i, row in enumerate(a)]
+    for col in range(n):
+        piv = max(range(col, n), key=lambda r: abs(m[r][col]))
+        m[col], m[piv] = m[piv], m[col]
+        for r in range(col + 1, n):
+            f = m[r][col] / m[col][col]
+            for c in range(col, n + 1):
+                m[r][c] -= f * m[col][c]
+    x = [0j] * n
+    for r in range(n - 1, -1, -1):
+        x[r] = (m[r][n] - sum(m[r][c] * x[c] for c in range(r + 1, n))) / m[r][r]
+    return x
 
 
 def pencil_vector(K, C, lam, steps=3):

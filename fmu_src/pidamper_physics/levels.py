@@ -150,7 +150,8 @@ class ModalModel(_Displacements):
             contact = (-self.ks, -self.cs1, b - ww1 * side * p.d - fy)
         else:
             contact = (ww1 - self.ks, self.cp - self.cs1, b - ww1 * side * p.d - fy)
-        return ModalStick(self.ride, x, v, side, p.d, b, p.F0 / p.M / (1.0 + p.mu), p.Omega, psi, T, contact)
+        return ModalStick(self.ride, [x, v], 0, side, p.d, [b], p.F0 / p.M / (1.0 + p.mu), p.Omega, psi, T,
+                          ([contact[0]], [contact[1]], contact[2]))
 
     def _ride_load(self, side, fx, fy):
         """Held load per mass [m/s2] of the pair riding stop `side` (its 1-DOF equation's b)."""

@@ -15,7 +15,8 @@ with g+- = +-gamma exp(+-i psi) / 2i and phi1(w) = (exp(w) - 1)/w summed as a se
 without forming exp(lam tau) - 1, so a load that dwarfs the restoring force (a small g, a large
 force: beta/lam >> eta) does not cancel.  Complex-conjugate modes are folded (one of each pair,
 weight 2), so a two-DOF underdamped system costs two complex modes per evaluation.  n = 1, 2
-are solved in closed form (2-DOF: a quartic), n >= 3 by the general eigen-solver (eigen.py).
+are solved in closed form (2-DOF: eigen.quartic_roots, V^-1 by eigen.gauss_solve), n >= 3 by the
+general eigen-solver (eigen.pencil_modes, eigen.inverse_rows).
 Plain Python (math, cmath): this runs inside the FMU.
 """
 import cmath
@@ -35,54 +36,6 @@ def phi1(w):
         term = term * w / k
         total += term
     return total
-
-
-def _quartic_roots(c3, c2, c1, c0, guesses):
-    """Roots of l^4 + c3 l^3 + c2 l^2 + c1 l + c0 (Durand-Kerner, then Newton polish)."""
-    def p(x):
-        return (((x + c3) * x + c2) * x + c1) * x + c0
-
-    def dp(x):
-        return ((4.0 * x + 3.0 * c3) * x + 2.0 * c2) * x + c1
-
-    roots = list(guesses)
-    for _ in range(500):
-        moved = 0.0
-        for i, r in enumerate(roots):
-            den = 1.0 + 0j
-            for j, s in enumerate(roots):
-                if j != i:
-                    den *= r - s
-            step = p(r) / den
-            roots[i] = r - step
-            moved = max(moved, abs(step) / max(abs(r), 1e-300))
-        if moved < 1e-15:
-            break
-    for i, r in enumerate(roots):  # Newton: quadratic convergence to full precision
-        for _ in range(3):
-            d = dp(r)
-            if d == 0:
-                break
-            r = r - p(r) / d
-        roots[i] = r
-    return roots
-
-
-def _solve(a, b):
-    """x with a x = b (complex Gauss elimination with partial pivoting; a is n x n)."""
-    n = len(a)
-    m = [list(row) + [b[i]] for i, row in enumerate(a)]
-    for col in range(n):
-        piv = max(range(col, n), key=lambda r: abs(m[r][col]))
-        m[col], m[piv] = m[piv], m[col]
-        for r in range(col + 1, n):
-            f = m[r][col] / m[col][col]
-            for c in range(col, n + 1):
-                m[r][c] -= f * m[col][c]
-    x = [0j] * n
-    for r in range(n - 1, -1, -1):
-        x[r] = (m[r][n] - sum(m[r][c] * x[c] for c in range(r + 1, n))) / m[r][r]
-    return x
 
 
 def exp_pair(z):
@@ -138,7 +91,7 @@ class Modes:
                        -0.5 * c11 - cmath.sqrt(0.25 * c11 * c11 - k11) * (1 - 2e-3j),
                        -0.5 * c22 + cmath.sqrt(0.25 * c22 * c22 - k22) * (1.01 + 3e-3j),
                        -0.5 * c22 - cmath.sqrt(0.25 * c22 * c22 - k22) * (0.99 - 4e-3j)]
-            lams = _quartic_roots(c11 + c22, k11 + k22 + c11 * c22 - c12 * c21,
+            lams = eigen.quartic_roots(c11 + c22, k11 + k22 + c11 * c22 - c12 * c21,
                                   c11 * k22 + c22 * k11 - c12 * k21 - c21 * k12, k11 * k22 - k12 * k21, guesses)
         scale = max(abs(x) for x in lams)
         for i in range(len(lams) if not uncoupled else 0):
@@ -156,7 +109,7 @@ class Modes:
         keep = [k for k, lam in enumerate(lams) if lam.imag > 1e-12 * scale or abs(lam.imag) <= 1e-12 * scale]
         # the kept rows of V^-1: n <= 2 from its columns (solving V x = e_j), else from one LU
         if n <= 2:
-            inv_cols = [_solve(V, [1.0 if r == j else 0.0 for r in range(2 * n)]) for j in range(2 * n)]
+            inv_cols = [eigen.gauss_solve(V, [1.0 if r == j else 0.0 for r in range(2 * n)]) for j in range(2 * n)]
             inv_rows = {k: [inv_cols[j][k] for j in range(2 * n)] for k in keep}
         else:
             inv_rows = dict(zip(keep, eigen.inverse_rows(V, keep)))

@@ -7,7 +7,8 @@ ground, whatever the level.
 
 - ModalFlight: guards D -+ (x - y), the gaps to the two stops.
 - ModalStick: guard s N/m, the contact force per particle mass on stop s, an affine function
-  N/m = kx x + kv v + k0 + kf sin(Omega tau + psi) of the riding pair's state.
+  N/m = kx . x + kv . v + k0 + kf sin(Omega tau + psi) of the riding system's state (the pendulum
+  levels' pair: one DOF; a building's floors: N).
 """
 import math
 
@@ -78,61 +79,88 @@ class ModalFlight:
 
 
 class ModalStick:
-    """The particle rides stop `sgn`: the pair (x, v) follows the 1-DOF system of the level;
-    guard = sgn N/m with N/m = kx x + kv v + k0 + kf sin (see the module doc)."""
+    """The particle rides stop `sgn` of DOF j: z = (x_1..x_N, v_1..v_N) follows the riding system
+    (the pendulum levels: N = 1, the primary; a building: its floors, j the damper's);
+    guard = sgn N/m, N/m = kx . x + kv . v + k0 + a sin(Omega tau + psi) (kx, kv: rows of N)."""
 
-    reach = math.inf  # the closed form holds over the whole span
-    __slots__ = ("motion", "k", "c", "b", "a", "om", "sgn", "d", "kx", "kv", "k0", "bounds", "noise", "growth",
-                 "clear")
+    reach = math.inf
+    __slots__ = ("motion", "j", "n", "sgn", "d", "a", "om", "kx", "kv", "k0", "K", "C", "b", "bounds", "noise",
+                 "growth", "clear", "_tau", "_z", "start_floors")
 
-    def __init__(self, system, x, v, sgn, d, b, a, om, psi, T, contact):
+    def __init__(self, system, z0, j, sgn, d, b, a, om, psi, T, contact):
         modes, K, C = system
-        self.motion = motion = Motion(modes, (x, v), (b,), (a,) if a != 0.0 else None, om, psi)
-        self.k, self.c, self.b, self.a, self.om, self.sgn, self.d = K[0][0], C[0][0], b, a, om, sgn, d
-        self.kx, self.kv, self.k0 = contact  # N/m = kx x + kv v + k0 + a sin (x'' folded in)
+        n = modes.n
+        f = None
+        if a != 0.0:
+            f = [0.0] * n
+            f[j] = a
+        self.motion = motion = Motion(modes, z0, b, f, om, psi)
+        self.j, self.n, self.sgn, self.d, self.a, self.om, self.K, self.C, self.b = j, n, sgn, d, a, om, K, C, b
+        self.kx, self.kv, self.k0 = contact
+        self._tau, self._z = 0.0, z0
+        self.start_floors = z0[:n]
         self.growth = max(modes.fastest, om if a != 0.0 else 0.0)
-        B = motion.bounds(T, _ORDERS)
-        rest = motion.rest()[0]
-        kx, kv, aa = abs(self.kx), abs(self.kv), abs(a)
-        self.bounds = tuple(kx * B[0][j] + kv * B[0][j + 1] + aa * om ** j for j in (2, 3, 4))
-        # |x|, |v| over [0, T]: the tighter of the swing about the equilibrium and the start's
-        # Taylor bound (see ModalFlight)
-        vmax = min(B[0][1], abs(v) + T * B[0][2])
-        xmax = noise_size(abs(rest) + B[0][0], abs(x) + T * vmax, d)
-        swing = abs(rest) + B[0][0]
-        scale = abs(self.k0) + kx * xmax + kv * (B[0][1] if xmax == swing else vmax) + aa
-        self.noise = (TOLERANCE * scale,) + tuple(TOLERANCE * (kx * B[0][j] + kv * B[0][j + 1] + aa * om ** j)
-                                                  for j in (1, 2, 3))
-        start = sgn * (self.kx * x + self.kv * v + self.k0 + a * math.sin(psi))
-        floor = max(sgn * (self.k0 + self.kx * rest) - kx * B[0][0] - kv * B[0][1] - aa,
-                    start - T * (kx * vmax + kv * B[0][2] + aa * om))  # least s N/m over [0, T]
+        aa = abs(a)
+        # the guard's linear part c . z = kx . x + kv . v, as a row over the modes, and its bounds
+        V = modes.V
+        row = [sum(self.kx[i] * V[i][k] + self.kv[i] * V[n + i][k] for i in range(n)) for k in range(len(modes.lam))]
+        bound = motion.bounds(T, _ORDERS, vectors=[row])[0]
+        rest = motion.rest(vectors=[row])[0]
+        self.bounds = tuple(bound[o] + aa * om ** o for o in (2, 3, 4))
+        size = sum(abs(self.kx[i]) * abs(z0[i]) + abs(self.kv[i]) * abs(z0[n + i]) for i in range(n))
+        self.noise = (TOLERANCE * (abs(self.k0) + noise_size(abs(rest) + bound[0], size + T * bound[1], d) + aa),) + \
+            tuple(TOLERANCE * (bound[o] + aa * om ** o) for o in (1, 2, 3))
+        start = sgn * (sum(self.kx[i] * z0[i] + self.kv[i] * z0[n + i] for i in range(n)) + self.k0 + a * math.sin(psi))
+        floor = max(sgn * (self.k0 + rest) - bound[0] - aa, start - T * (bound[1] + aa * om))  # least s N/m on [0, T]
         self.clear = floor > self.noise[0] * (1.0 + self.growth * T)
 
+    def state(self, tau):
+        if tau != self._tau:
+            self._tau, self._z = tau, self.motion.state(tau)
+        return self._z
+
+    def floors_at(self, tau):
+        return self.state(tau)[:self.n]
+
+    def others(self, tau):
+        z = self.state(tau)
+        j, n = self.j, self.n
+        return z[:j] + z[j + 1:n] + z[n:n + j] + z[n + j + 1:]
+
     def positions(self, tau):
-        x, v = self.motion.state(tau)
+        z = self.state(tau)
+        x, v = z[self.j], z[self.n + self.j]
         return x, v, x - self.sgn * self.d, v
 
     def _chain(self, tau):
-        """x, v, x'', x''', x'''' and sin, cos of the load at tau."""
-        x, v = self.motion.state(tau)
+        """z, its acceleration and jerk vectors, and sin, cos of the load at tau."""
+        z = self.state(tau)
+        n, K, C, b, a, om = self.n, self.K, self.C, self.b, self.a, self.om
         s, c = self.motion.load(tau)
-        k, cc, a, om = self.k, self.c, self.a, self.om
-        x2 = self.b + a * s - k * x - cc * v
-        x3 = a * om * c - k * v - cc * x2
-        x4 = -a * om * om * s - k * x2 - cc * x3
-        return x, v, x2, x3, x4, s, c
+        x, v = z[:n], z[n:]
+        acc = [b[r] - sum(K[r][k] * x[k] for k in range(n)) - sum(C[r][k] * v[k] for k in range(n)) for r in range(n)]
+        acc[self.j] += a * s
+        jerk = [-sum(K[r][k] * v[k] for k in range(n)) - sum(C[r][k] * acc[k] for k in range(n)) for r in range(n)]
+        jerk[self.j] += a * om * c
+        snap = [-sum(K[r][k] * acc[k] for k in range(n)) - sum(C[r][k] * jerk[k] for k in range(n)) for r in range(n)]
+        snap[self.j] -= a * om * om * s
+        return x, v, acc, jerk, snap, s, c
 
     def values(self, tau):
-        x, v, x2, _, _, s, c = self._chain(tau)
-        sg, a, om = self.sgn, self.a, self.om
-        return (sg * (self.kx * x + self.kv * v + self.k0 + a * s),
-                sg * (self.kx * v + self.kv * x2 + a * om * c))
+        x, v, acc, _, _, s, c = self._chain(tau)
+        sg, kx, kv, a, om = self.sgn, self.kx, self.kv, self.a, self.om
+        rng = range(self.n)
+        return (sg * (sum(kx[i] * x[i] + kv[i] * v[i] for i in rng) + self.k0 + a * s),
+                sg * (sum(kx[i] * v[i] + kv[i] * acc[i] for i in rng) + a * om * c))
 
     def derivs(self, tau, i=0):
-        x, v, x2, x3, x4, s, c = self._chain(tau)
-        sg, a, om, kx, kv = self.sgn, self.a, self.om, self.kx, self.kv
-        return (sg * (kx * x + kv * v + self.k0 + a * s), sg * (kx * v + kv * x2 + a * om * c),
-                sg * (kx * x2 + kv * x3 - a * om * om * s), sg * (kx * x3 + kv * x4 - a * om ** 3 * c))
+        x, v, acc, jerk, snap, s, c = self._chain(tau)
+        sg, kx, kv, a, om = self.sgn, self.kx, self.kv, self.a, self.om
+        rng = range(self.n)
+        return (sg * (sum(kx[k] * x[k] + kv[k] * v[k] for k in rng) + self.k0 + a * s),
+                sg * (sum(kx[k] * v[k] + kv[k] * acc[k] for k in rng) + a * om * c),
+                sg * (sum(kx[k] * acc[k] + kv[k] * jerk[k] for k in rng) - a * om * om * s),
+                sg * (sum(kx[k] * jerk[k] + kv[k] * snap[k] for k in rng) - a * om ** 3 * c))
 
 
 def harmonic_work(seg, tau, amplitude, om, psi, velocity):

@@ -9,7 +9,7 @@ Phi^T C Phi = diag(2 zeta w_r)):
 
     q_r'' + 2 zeta w_r q_r' + w_r^2 q_r = p_r,      p_r = sum_k Phi[k][r] (F_k - m_k a_g),
 
-each a damped oscillator under a constant load, solved in closed form (`sdof`).  An impulse J
+each a damped oscillator under a constant load, solved in closed form (`oscillator.DampedOscillator`).  An impulse J
 [N s] on floor k at an instant changes floor k's velocity by J / m_k and no displacement; in
 modal terms q_r' jumps by `Phi[k][r] J`.  A step with impulses at instants inside it is solved
 piece by piece between them, so it is exact for held loads and instantaneous impulses.
@@ -17,42 +17,13 @@ piece by piece between them, so it is exact for held loads and instantaneous imp
 The state is kept in modal coordinates (q, q'), so stepping never re-projects; floor values are
 derived from it.  Plain Python (math): this ships inside the FMU.
 """
-import math
 
 from .building import ShearBuilding
+from .oscillator import DampedOscillator
 from .params import ParameterError, check_building, check_finite
 
 #: the building of floor masses and storey stiffnesses, checked (params.check_building)
 make_building = check_building
-
-
-def sdof(w, zeta, q0, v0, p, tau):
-    """(q, q') at tau >= 0 of q'' + 2 zeta w q' + w^2 q = p (held), from (q0, v0); 0 <= zeta < 1.
-
-    Written about the start, q = q0 + A (exp(-s tau) cos(wd tau) - 1) + B exp(-s tau) sin(wd tau)
-    with A = q0 - p/w^2, B = (v0 + s A)/wd, s = zeta w, wd = w sqrt(1 - zeta^2), and
-    exp(-s tau) cos - 1 = expm1(-s tau) cos - 2 sin^2(wd tau / 2): no cancellation for short
-    steps, nor when the held load dwarfs the motion."""
-    ww = w * w
-    s = zeta * w
-    wd = w * math.sqrt(1.0 - zeta * zeta)
-    a = q0 - p / ww
-    half = 0.5 * wd * tau
-    sh = math.sin(half)
-    sn = 2.0 * sh * math.cos(half)  # sin(wd tau)
-    omc = 2.0 * sh * sh  # 1 - cos(wd tau)
-    if s == 0.0:
-        ec_m1, es = -omc, sn
-        decay = 1.0
-    else:
-        em1 = math.expm1(-s * tau)
-        decay = 1.0 + em1
-        ec_m1 = em1 * (1.0 - omc) - omc  # exp(-s tau) cos(wd tau) - 1
-        es = decay * sn
-    b = (v0 + s * a) / wd
-    q = q0 + a * ec_m1 + b * es
-    v = v0 + v0 * ec_m1 - (ww * a + s * v0) / wd * es
-    return q, v
 
 
 class ShearMotion:
@@ -72,6 +43,7 @@ class ShearMotion:
         if len(x0) != n or len(v0) != n:
             raise ParameterError("x0, v0", (x0, v0), f"they need {n} entries, one per floor")
         self.t = check_finite("start time", t0)
+        self.modes = [DampedOscillator(w, building.zeta) for w in building.omegas]
         phi, m = building.shapes, building.masses
         # modal projections q = Phi^T M x
         self.q = [sum(phi[k][r] * m[k] * x0[k] for k in range(n)) for r in range(n)]
@@ -130,11 +102,10 @@ class ShearMotion:
     def _free(self, tau, loads):
         if tau <= 0.0:
             return
-        b = self.b
-        zeta = b.zeta
         q, qd = self.q, self.qd
-        for r, w in enumerate(b.omegas):
-            q[r], qd[r] = sdof(w, zeta, q[r], qd[r], loads[r], tau)
+        for r, mode in enumerate(self.modes):
+            mode.start(q[r], qd[r], loads[r])
+            q[r], qd[r] = mode.at(tau)
 
     # ---- state ----------------------------------------------------------------------------
 

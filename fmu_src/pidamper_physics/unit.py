@@ -54,6 +54,7 @@ Plain Python (math): this ships inside the FMU.
 """
 import math
 
+from .oscillator import DampedOscillator
 from .params import SCALE_RANGE, ZETA_GAP, ParameterError, check_finite, check_restitution
 from .segments import GAP_RESOLUTION, TOLERANCE, noise_size
 from .stepping import FREE, STICK, EventDriven
@@ -86,23 +87,19 @@ class Riding:
         return self.state
 
 
-class UnitFlight:
+class UnitFlight(DampedOscillator):
     """Free flight of the particle relative to the attachment over one piece: the damped
-    oscillator r'' + 2 zeta w r' + w^2 r = p (p = -a_s held); guards D - r (stop +1) and D + r
-    (stop -1); the guard protocol of events.py (values, derivs, bounds, noise, growth, clear)."""
+    oscillator r'' + 2 zeta w r' + w^2 r = p (p = -a_s held; `positions` = DampedOscillator.at);
+    guards D - r (stop +1) and D + r (stop -1); the guard protocol of events.py (values, derivs,
+    bounds, noise, growth, clear)."""
 
     reach = math.inf
-    __slots__ = ("w", "ww", "s", "wd", "p", "r0", "v0", "a", "b", "k", "D", "bounds", "noise", "growth", "clear")
+    __slots__ = ("D", "bounds", "noise", "growth", "clear")
 
     def __init__(self, w, zeta, r, v, p, D, T, always_bound=False):
-        ww = w * w
-        s = zeta * w
-        wd = w * math.sqrt(1.0 - zeta * zeta)
-        a = r - p / ww
-        b = (v + s * a) / wd
-        self.w, self.ww, self.s, self.wd, self.p, self.r0, self.v0, self.a, self.b, self.D = \
-            w, ww, s, wd, p, r, v, a, b, D
-        self.k = (ww * a + s * v) / wd
+        DampedOscillator.__init__(self, w, zeta, r, v, p)
+        self.D = D
+        ww, a, b = self.ww, self.a, self.b
         amp = math.hypot(a, b)  # |r - r_e| <= amp, |d^j r / dtau^j| <= w^j amp (|lambda| = w, Re lambda <= 0)
         re = abs(p) / ww
         swing = re + amp
@@ -117,20 +114,7 @@ class UnitFlight:
         self.bounds = (ww * amp, ww * w * amp, ww * ww * amp)
         self.noise = (n0, TOLERANCE * b1, TOLERANCE * (ww * amp + ww * re), TOLERANCE * ww * w * amp)
 
-    def positions(self, tau):
-        """(r, r') at tau (shear_motion.sdof, with the constants of the piece)."""
-        s, v0 = self.s, self.v0
-        half = 0.5 * self.wd * tau
-        sh = math.sin(half)
-        sn = 2.0 * sh * math.cos(half)
-        omc = 2.0 * sh * sh
-        if s == 0.0:
-            ec_m1, es = -omc, sn
-        else:
-            em1 = math.expm1(-s * tau)
-            ec_m1 = em1 * (1.0 - omc) - omc
-            es = (1.0 + em1) * sn
-        return self.r0 + self.a * ec_m1 + self.b * es, v0 + v0 * ec_m1 - self.k * es
+    positions = DampedOscillator.at
 
     def values(self, tau):
         r, v = self.positions(tau)
