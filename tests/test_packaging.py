@@ -46,7 +46,7 @@ def test_wheel_installs_and_runs_from_a_clean_environment(tmp_path):
     names = _run([str(python), "-c", IMPORT_EVERYTHING], cwd=work).split()
     assert {"pidamper.scenes", "pidamper.oracles", "pidamper.benchmarks", "pidamper.runlog", "pidamper_physics", "pidamper_fmu",
             "build_fmu"} <= set(names)
-    scenes = _run([str(python), "-c", "from pidamper import scene; print(' '.join(scene.shipped()))"], cwd=work)
+    scenes = _run([str(python), "-c", "from pidamper import scenes; print(' '.join(scenes.shipped()))"], cwd=work)
     assert "resonance" in scenes.split() and len(scenes.split()) >= 10
     out = tmp_path / "fmus"
     _run([str(python), "-m", "build_fmu", "--out", str(out)], cwd=work)
