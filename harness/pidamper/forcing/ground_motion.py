@@ -444,9 +444,19 @@ def _discretise(A, b, S0, dt):
 
 
 def _psd_sqrt(C):
-    """A factor L with L L^T = C for a symmetric positive semi-definite C (round-off clipped)."""
-    w, V = np.linalg.eigh(C)
-    return V * np.sqrt(np.clip(w, 0.0, None))
+    """The factor L with L L^T = C of a symmetric positive semi-definite C, the same on every machine.
+
+    Cholesky's factor (lower triangular, positive diagonal) is unique, so a seed gives the same
+    record whatever LAPACK computes it.  A semi-definite C (round-off clipped) falls back on the
+    eigen-decomposition with each eigenvector's sign fixed (largest entry positive): eigh's signs
+    are the library's choice, and a flipped column changes every sample drawn through it.
+    """
+    try:
+        return np.linalg.cholesky(C)
+    except np.linalg.LinAlgError:
+        w, V = np.linalg.eigh(C)
+        V = V * np.where(V[np.argmax(np.abs(V), axis=0), np.arange(V.shape[1])] < 0, -1.0, 1.0)
+        return V * np.sqrt(np.clip(w, 0.0, None))
 
 
 def stationary_variance(omega_g, zeta_g, S0, omega_f=None, zeta_f=None):
