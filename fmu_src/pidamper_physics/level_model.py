@@ -50,7 +50,7 @@ class LevelModel:
     # ---- segments -------------------------------------------------------------------------
 
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
-        """Free flight over [0, T] [s] (bounds and noise always built when always_bound)."""
+        """Free flight over [0, T], T in s (bounds and noise always built when always_bound)."""
         raise NotImplementedError
 
     def stick(self, x, v, side, fc, psi, T):
