@@ -12,7 +12,7 @@ def component_fmus(folder=None):
 
     from build_fmu import expected_guid
 
-    from ..running.fmu import build_fmu, default_fmu_path
+    from ..running.fmu import default_fmu_path, ensure_built
 
     if folder is not None:
         paths = {name: Path(folder) / f"{name}.fmu" for name in (BUILDING, UNIT)}
@@ -29,8 +29,7 @@ def component_fmus(folder=None):
         except Exception:
             return False
 
-    if not all(current(name) for name in paths):
-        build_fmu(dist)
+    ensure_built([paths[BUILDING], paths[UNIT]], lambda path: current(path.stem))
     return paths
 
 
