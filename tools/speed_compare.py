@@ -10,12 +10,13 @@ step.  Prints the machine and a table: case, base us/step, new us/step, new/base
 """
 import argparse
 import os
-import platform
 import statistics
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from pidamper.machine import describe
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -49,12 +50,6 @@ print((time.process_time() - t0) / steps * 1e6, d.impacts)
 """
 
 
-def machine():
-    cpu = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
-                if line.startswith("model name")), platform.processor()) if Path("/proc/cpuinfo").exists() else ""
-    return f"{platform.machine()} {cpu}, {os.cpu_count()} cores, Python {platform.python_version()}"
-
-
 def one_run(tree, case, steps):
     env = dict(os.environ, PYTHONPATH=str(Path(tree) / "fmu_src"))
     out = subprocess.run([sys.executable, "-c", RUNNER.format(case=CASES[case]), str(steps)], env=env,
@@ -72,7 +67,7 @@ def main(argv=None):
         base = Path(tmp) / "base"
         subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(base), args.base], check=True)
         try:
-            print(f"Machine: {machine()}; {args.steps} steps of 0.01 s, median of {args.runs} interleaved runs, "
+            print(f"Machine: {describe()}; {args.steps} steps of 0.01 s, median of {args.runs} interleaved runs, "
                   "process CPU time\n")
             print("| case | base us/step | new us/step | new / base | impacts |\n|---|---:|---:|---:|---:|")
             for case in CASES:
