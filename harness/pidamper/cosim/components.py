@@ -8,11 +8,7 @@ from .scenario import BUILDING, UNIT
 def component_fmus(folder=None):
     """{name: path} of ShearBuilding.fmu and PendulumImpactDamperUnit.fmu: `folder` if given, else
     dist/ of the source checkout, rebuilt (all FMUs, in a fresh process) when missing or stale."""
-    import fmpy
-
-    from build_fmu import expected_guid
-
-    from ..running.fmu import default_fmu_path, ensure_built
+    from ..running.fmu import default_fmu_path, ensure_built, is_current
 
     if folder is not None:
         paths = {name: Path(folder) / f"{name}.fmu" for name in (BUILDING, UNIT)}
@@ -22,14 +18,7 @@ def component_fmus(folder=None):
         return paths
     dist = default_fmu_path().parent
     paths = {name: dist / f"{name}.fmu" for name in (BUILDING, UNIT)}
-
-    def current(name):
-        try:
-            return fmpy.read_model_description(str(paths[name])).guid == expected_guid(model=name)
-        except Exception:
-            return False
-
-    ensure_built([paths[BUILDING], paths[UNIT]], lambda path: current(path.stem))
+    ensure_built(paths.values(), is_current)
     return paths
 
 

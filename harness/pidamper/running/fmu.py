@@ -37,11 +37,12 @@ def default_fmu_path():
 
 
 def is_current(path):
-    """True when the FMU at path was built from the current sources."""
+    """True when the FMU at path (named <model>.fmu) was built from the current sources."""
     from build_fmu import expected_guid
 
+    path = Path(path)
     try:
-        return fmpy.read_model_description(str(path)).guid == expected_guid()
+        return fmpy.read_model_description(str(path)).guid == expected_guid(model=path.stem)
     except Exception:
         return False
 
