@@ -1,11 +1,17 @@
-"""The documentation/ folder of a component FMU (PendulumImpactDamperUnit, ShearBuilding): an
-index.html with the model's description and its variable tables, read from the adapter module."""
+"""The documentation/ folder of the FMUs other than PendulumImpactDamper (PendulumImpactDamperUnit,
+DampedShearBuilding<N>, ShearBuilding<N>): an index.html with the model's description and its
+variable tables, read from the adapter module."""
 import ast
 import html
 from pathlib import Path
 
+from .models import family
 from .documentation import git_revision
 from .variables import html_tables
+
+#: the physics module whose doc describes each family's model
+PHYSICS_DOC = {"PendulumImpactDamperUnit": "unit.py", "ShearBuilding": "shear_motion.py",
+               "DampedShearBuilding": "building_level.py"}
 
 
 def _module_doc(path):
@@ -18,7 +24,7 @@ def write(folder, model, adapter_path, version):
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    physics = {"PendulumImpactDamperUnit": "unit.py", "ShearBuilding": "shear_motion.py"}[model]
+    physics = PHYSICS_DOC[family(model)[0]]
     physics_doc = _module_doc(Path(importlib.import_module("pidamper_physics").__file__).with_name(physics))
 
     text = f"""<!DOCTYPE html>

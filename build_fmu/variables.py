@@ -1,5 +1,5 @@
-"""The variables of the three FMUs as tables: the one source of each FMU's documentation/index.html
-and of the site's page docs/guide/fmu-variables.md.
+"""The variables of the FMUs as tables: the one source of each FMU's documentation/index.html and of
+the site's page docs/guide/fmu-variables.md (the building FMUs shown for two storeys).
 
     python -m build_fmu.variables docs/guide/fmu-variables.md
 """
@@ -8,9 +8,12 @@ import importlib
 import sys
 from pathlib import Path
 
-MODELS = ("PendulumImpactDamper", "PendulumImpactDamperUnit", "ShearBuilding")
+from .models import MODEL_NAME, family
+
+#: the models of the site's page: a building family is shown for two storeys
+MODELS = ("PendulumImpactDamper", "PendulumImpactDamperUnit", "DampedShearBuilding2", "ShearBuilding2")
 _ADAPTERS = {"PendulumImpactDamper": "slave", "PendulumImpactDamperUnit": "unit_slave",
-             "ShearBuilding": "building_slave"}
+             "DampedShearBuilding": "damped_building_slave", "ShearBuilding": "building_slave"}
 _HEADERS = {"Parameters": ("name", "unit", "start", "range", "description"),
             "Inputs": ("name", "unit", "description"),
             "Outputs": ("name", "unit", "direct feedthrough from", "description"),
@@ -23,17 +26,19 @@ def _range(lo, hi):
 
 def tables(model):
     """[(title, header, rows)] of `model`'s parameters, inputs, outputs and local variables."""
-    module = importlib.import_module(f"pidamper_fmu.{_ADAPTERS[model]}")
-    if model == MODELS[0]:
-        params = [(n, u or "", repr(start), _range(lo, hi), d) for n, _, start, u, lo, hi, d in module.PARAMETERS]
-        inputs = [(n, u, d) for n, u, d in module.INPUTS]
-        computed = [(n, u, ("F a_g" if feed else ""), d, out)
-                    for group, out in ((module.OUTPUTS + module.BUILDING, True), (module.DERIVED, False))
-                    for n, _, u, d, feed in group]
+    kind, _ = family(model)
+    module = importlib.import_module(f"pidamper_fmu.{_ADAPTERS[kind]}")
+    cls = getattr(module, model)
+    if kind in (MODEL_NAME, "DampedShearBuilding"):  # particle_tables' layout
+        tables_module = importlib.import_module("pidamper_fmu.particle_tables")
+        local = {name for name, *_ in tables_module.DERIVED}
+        params = [(n, u or "", repr(start), _range(lo, hi), d) for n, _, start, u, lo, hi, d in cls.PARAMETERS]
+        inputs = [(n, u, d) for n, u, d in tables_module.INPUTS]
+        computed = [(n, u, ("F a_g" if feed else ""), d, n not in local) for n, _, u, d, feed in cls.COMPUTED]
     else:
-        params = [(n, u or "", repr(start), _range(lo, hi), d) for n, _, start, u, lo, hi, d, _ in module.PARAMETERS]
-        inputs = [(n, u, d) for n, _, u, d in module.INPUTS]
-        computed = [(n, u, " ".join(feed), d, out) for n, _, u, d, out, feed in module.COMPUTED]
+        params = [(n, u or "", repr(start), _range(lo, hi), d) for n, _, start, u, lo, hi, d, _ in cls.PARAMETERS]
+        inputs = [(n, u, d) for n, _, u, d in cls.INPUTS]
+        computed = [(n, u, " ".join(feed), d, out) for n, _, u, d, out, feed in cls.COMPUTED]
     return [("Parameters", _HEADERS["Parameters"], params), ("Inputs", _HEADERS["Inputs"], inputs),
             ("Outputs", _HEADERS["Outputs"], [(n, u or "", f, d) for n, u, f, d, out in computed if out]),
             ("Local variables", _HEADERS["Local variables"],
@@ -59,10 +64,12 @@ def _cell(value):
 def markdown():
     """The site's page of every FMU's variables."""
     lines = ["# FMU variables", "",
-             "Every variable of the three FMUs `python -m build_fmu` builds, from the same tables as each FMU's "
-             "own `documentation/index.html` (written by `python -m build_fmu.variables "
-             "docs/guide/fmu-variables.md`; a test checks this page against them). Inputs are held over each "
-             "communication step; names are a contract.", ""]
+             "Every variable of the FMUs `python -m build_fmu --storeys N` builds, from the same tables as each "
+             "FMU's own `documentation/index.html` (written by `python -m build_fmu.variables "
+             "docs/guide/fmu-variables.md`; a test checks this page against them). The building FMUs "
+             "`DampedShearBuilding<N>` and `ShearBuilding<N>` are shown for N = 2: each has exactly N floors' and "
+             "storeys' variables of these names. Inputs are held over each communication step; names are a "
+             "contract.", ""]
     for model in MODELS:
         lines += [f"## {model}", ""]
         for title, header, rows in tables(model):

@@ -1,14 +1,16 @@
-"""PendulumImpactDamper: a pythonfmu Fmi2Slave that is a thin adapter over Damper.
+"""PendulumImpactDamper, and the base of every FMU with the particle on its primary: a pythonfmu
+Fmi2Slave that is a thin adapter over Damper.
 
-Variables (names are a contract): inputs F [N] and a_g [m/s2] (ground acceleration of a
-base excitation: it acts on both bodies, whose x and y are then measured from the ground); parameters
-g, M, mu, L2, FR, d, d_angle, e (tunable), contact_form, F0, Omega, phi, fidelity, zeta_s, zeta_p,
-angle_limit and the initial state theta_0, theta_dot_0, alpha_0, alpha_dot_0, and a building's
-storeys, damper_floor, floor[k].m, storey[k].k (k = 1..10); outputs theta, theta_dot, alpha,
-alpha_dot, a, contact_force, energy, energy_dissipated, impacts, contact, floor[k].x, floor[k].a,
-storey[k].drift, base_shear; local variables x, y, z, energy_viscous, work_in, impacts_in_step,
-impacts_unrecorded and impact[k].* (the impacts of the last step).  With storeys >= 1 the F input
-acts on the damper floor and the building starts at rest (theta_0 and theta_dot_0 play no part).
+PendulumImpactDamper is the paper's two-pendulum system: inputs F [N] and a_g [m/s2] (ground
+acceleration of a base excitation: it acts on both bodies, whose x and y are then measured from the
+ground); parameters g, M, mu, L2, FR, d, d_angle, e (tunable), contact_form, F0, Omega, phi,
+fidelity, zeta_s, zeta_p, angle_limit and the initial state theta_0, theta_dot_0, alpha_0,
+alpha_dot_0; outputs theta, theta_dot, alpha, alpha_dot, a, contact_force, energy,
+energy_dissipated, impacts, contact; local variables x, y, z, energy_viscous, work_in,
+impacts_in_step, impacts_unrecorded and impact[k].* (the impacts of the last step).  A subclass
+with STOREYS = N >= 1 (damped_building_slave.py: DampedShearBuilding<N>) hangs the particle from a
+floor of an N-storey shear building instead: the same names, exactly N floors' and storeys'
+variables (particle_tables.py).
 
 The FMU's native layer (fmi2_entry.c, binaries/linux64/<id>.so) sits in front of pythonfmu's binary:
 it enforces the calling sequence and answers reads from a buffer this class fills after each step
@@ -27,140 +29,43 @@ from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, In
 from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
-from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, Damper, ParameterError, Params, SmallAngleMonitor
-from pidamper_physics.params import (FLOOR_MASS, MAX_STOREYS, NONLINEAR, STOREY_STIFFNESS, check_finite,
-                                     check_restitution)
+from pidamper_physics import Damper, ParameterError, Params, SmallAngleMonitor
+from pidamper_physics.params import NONLINEAR, check_finite, check_restitution
 
 from .common import FmiEntry, Refusal, describe, fmi_text, guarded
+from .particle_tables import DERIVED, IMPACT_REALS, IMPACT_SLOTS, INPUTS, OUTPUTS, RECORD, START, tables
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
 
-_START = {**DEFAULTS, **INITIAL_DEFAULTS, "angle_limit": SmallAngleMonitor.DEFAULT_LIMIT,
-          **{f"floor[{k}].m": FLOOR_MASS for k in range(1, MAX_STOREYS + 1)},
-          **{f"storey[{k}].k": STOREY_STIFFNESS for k in range(1, MAX_STOREYS + 1)}}
-
-# name, unit, description: held over each communication step
-INPUTS = (("F", "N", "horizontal force on the primary mass (storeys >= 1: on the damper floor)"),
-          ("a_g", "m/s2", "ground acceleration of a base excitation (acts on both bodies)"))
-
-# name, type, start, unit, min, max, description
-PARAMETERS = tuple((name, kind, _START[name], unit, lo, hi, desc) for name, kind, unit, lo, hi, desc in (
-    ("g", Real, "m/s2", 0.0, None, "gravitational acceleration (> 0)"),
-    ("M", Real, "kg", 0.0, None, "primary mass (> 0)"),
-    ("mu", Real, "1", 0.0, None, "mass ratio m/M (>= 0; 0 = no damper)"),
-    ("L2", Real, "m", 0.0, None, "primary pendulum length (> 0)"),
-    ("FR", Real, "1", 0.0, None, "frequency ratio w1/w2 (> 0); particle length L1 = L2/FR^2"),
-    ("d", Real, "m", 0.0, None, "clearance, displacement form: contact at x - y = +-d (> 0)"),
-    ("d_angle", Real, "rad", 0.0, None, "clearance, angle form: contact at theta - alpha = +-d_angle (> 0)"),
-    ("e", Real, "1", 0.0, 1.0, "coefficient of restitution in [0, 1] (tunable)"),
-    ("contact_form", Integer, None, 0, 1, "0 = displacement form (default), 1 = angle form as printed in the paper"),
-    ("F0", Real, "N", None, None, "amplitude of the built-in harmonic force F0 sin(Omega t + phi)"),
-    ("Omega", Real, "rad/s", 0.0, None, "frequency of the built-in harmonic force (>= 0)"),
-    ("phi", Real, "rad", None, None, "phase of the built-in harmonic force"),
-    ("theta_0", Real, "rad", None, None, "initial primary angle"),
-    ("theta_dot_0", Real, "rad/s", None, None, "initial primary angular velocity"),
-    ("alpha_0", Real, "rad", None, None, "initial particle angle"),
-    ("alpha_dot_0", Real, "rad/s", None, None, "initial particle angular velocity"),
-    ("fidelity", Integer, None, 0, 3, "model level: 0 linear (the paper), 1 damped (+ dashpots zeta_s, zeta_p), "
-                                       "2 coupled (particle hung from the moving primary), 3 nonlinear (large angles)"),
-    ("zeta_s", Real, "1", 0.0, 1.0, "viscous damping ratio of the primary, dashpot 2 zeta_s M w2 (fidelity >= 1; < 1)"),
-    ("zeta_p", Real, "1", 0.0, 1.0, "viscous damping ratio of the particle relative to its pivot, dashpot "
-                                    "2 zeta_p m w1 (fidelity >= 1; < 1)"),
-    ("angle_limit", Real, "rad", 0.0, None, "swing beyond which the linear (small-angle) model warns, once per run "
-                                            "(0.4 rad: its frequency is then 1 % off; 0 = never)"),
-    ("storeys", Integer, None, 0, MAX_STOREYS, "0 = the pendulum primary; 1..10 = a linear shear building of that many "
-                                               "storeys instead (floor[k].m, storey[k].k; M, L2 play no part)"),
-    ("damper_floor", Integer, None, 0, MAX_STOREYS, "floor the particle hangs from (0 = the top floor; else 1..storeys)"),
-) + tuple((f"floor[{k}].m", Real, "kg", 0.0, None, f"mass of floor {k} (storeys >= {k})")
-          for k in range(1, MAX_STOREYS + 1)) + tuple(
-    (f"storey[{k}].k", Real, "N/m", 0.0, None, f"stiffness of storey {k}, joining floor {k - 1} to floor {k} "
-                                               f"(storeys >= {k})") for k in range(1, MAX_STOREYS + 1)))
-
-# name, type, unit, description, direct feedthrough from F.  The outputs are the component's
-# interface (what a host records by default and connects); the derived and bookkeeping values are
-# local variables a host reads by name.  Both are computed together after each step and have
-# consecutive value references in this order, so one pack fills them all.
-OUTPUTS = (
-    ("theta", Real, "rad", "primary angle (storeys >= 1: the damper floor's x / L2, L2 = g / w_1^2 the pendulum of "
-                           "the building's first frequency w_1)", False),
-    ("theta_dot", Real, "rad/s", "primary angular velocity (storeys >= 1: the damper floor's velocity / L2)", False),
-    ("alpha", Real, "rad", "particle angle (of its wire from the vertical; storeys >= 1: (y - x) / L1, its pivot "
-                           "on the damper floor)", False),
-    ("alpha_dot", Real, "rad/s", "particle angular velocity", False),
-    ("a", Real, "m/s2", "primary acceleration between impacts, relative to the ground (storeys >= 1: the damper "
-                        "floor's)", True),
-    ("contact_force", Real, "N", "force of the stop on the particle while riding it, else 0", True),
-    ("energy", Real, "J", "mechanical energy of the level's model (linear: 0.5 M (v^2 + w2^2 x^2) + 0.5 m (u^2 + w1^2 y^2); "
-                          "storeys >= 1: the floors' kinetic and strain energy + 0.5 m (u^2 + w1^2 (y - x)^2))", False),
-    ("energy_dissipated", Real, "J", "energy dissipated by impacts so far", False),
-    ("impacts", Integer, None, "impacts applied so far (chatter impacts included)", False),
-    ("contact", Integer, None, "0 free, +1/-1 particle riding that stop", False),
-)
-# a building's outputs (storeys >= 1; zeros without a building): last, so that a step of the pendulum
-# primary packs only OUTPUTS and DERIVED into the native layer's buffer
-BUILDING = tuple((f"floor[{k}].x", Real, "m", f"displacement of floor {k} relative to the ground (0 beyond storeys)", False)
-          for k in range(1, MAX_STOREYS + 1)) + tuple(
-    (f"floor[{k}].a", Real, "m/s2", f"absolute acceleration of floor {k} (0 beyond storeys)", True)
-    for k in range(1, MAX_STOREYS + 1)) + tuple(
-    (f"storey[{k}].drift", Real, "m", f"drift of storey {k}: floor[{k}].x - floor[{k - 1}].x (0 beyond storeys)", False)
-    for k in range(1, MAX_STOREYS + 1)) + (
-    ("base_shear", Real, "N", "force of the building on the ground (sum of K x + C x'; 0 without a building)", False),)
-DERIVED = (
-    ("x", Real, "m", "primary displacement (linear levels: L2*theta; nonlinear: L2 sin(theta); storeys >= 1: the "
-                     "damper floor's, relative to the ground)", False),
-    ("y", Real, "m", "particle displacement (linear, damped: L1*alpha; coupled: x + L1*alpha; nonlinear: "
-                     "x + L1 sin(alpha))", False),
-    ("z", Real, "m", "gap x - y", False),
-    ("energy_viscous", Real, "J", "energy taken by the viscous dashpots so far (fidelity >= 1)", False),
-    ("work_in", Real, "J", "work done by the applied forces so far, integral of F v dt", False),
-    ("impacts_in_step", Integer, None, "impacts applied during the last communication step", False),
-    ("impacts_unrecorded", Integer, None,
-     "impacts of the last step beyond the 16 record slots (counted, not recorded)", False),
-)
-COMPUTED = OUTPUTS + DERIVED + BUILDING
-_NO_BUILDING = (0.0,) * len(BUILDING)  # the building's outputs without a building
-_PAD = [(0.0,) * (MAX_STOREYS - n) for n in range(MAX_STOREYS + 1)]
-
-# Per-step impact record: local variables (hosts do not record them by default; any host reads them
-# by name after fmi2DoStep).  Slots beyond impacts_in_step hold zeros.  The Real fields of all slots
-# come first (slot-major), then the sides.
-IMPACT_SLOTS = 16
-IMPACT_REALS = (
-    ("t", "s", "time"),
-    ("v_rel_before", "m/s", "particle minus primary velocity before"),
-    ("v_rel_after", "m/s", "particle minus primary velocity after"),
-    ("energy_lost", "J", "energy lost"),
-    ("theta", "rad", "primary angle"),
-)
-RECORD = tuple((f"impact[{k + 1}].{field}", Real, unit, f"impact {k + 1} of the last step: {desc}")
-               for k in range(IMPACT_SLOTS) for field, unit, desc in IMPACT_REALS) + tuple(
-    (f"impact[{k + 1}].side", Integer, None, f"impact {k + 1} of the last step: stop hit, +1 (z = +d) or -1 (z = -d)")
-    for k in range(IMPACT_SLOTS))
 NR = len(IMPACT_REALS)
 
 # the native layer's buffer is a double per value reference (Integer values too, the layer converts
 # them): the outputs, and the record, each have consecutive value references, so one pack fills each
-_PACK_COMPUTED = struct.Struct(f"={len(COMPUTED)}d")
-_PACK_PENDULUM = struct.Struct(f"={len(OUTPUTS) + len(DERIVED)}d")
-_PACK_BUILDING = struct.Struct(f"={len(BUILDING)}d")
 _PACK_RECORD = struct.Struct(f"={len(RECORD)}d")
 _ZERO_RECORD = (0.0,) * (NR * IMPACT_SLOTS) + (0,) * IMPACT_SLOTS
-_STATE_KEYS = frozenset([name for name, *_ in PARAMETERS]
-                        + ["F", "a_g", "_t0", "_initialized", "_core", "_in_step", "_record", "_monitor"])
-class PendulumImpactDamper(FmiEntry, Fmi2Slave):
-    """Pendulum-type particle impact damper, exact event-driven co-simulation."""
+_STATE_EXTRA = ("F", "a_g", "_t0", "_initialized", "_core", "_in_step", "_record", "_monitor")
 
+
+class ParticleSlave(FmiEntry, Fmi2Slave):
+    """The particle on its primary (the pendulum, STOREYS = 0, or an N-storey building), exact
+    event-driven co-simulation; a model class sets STOREYS and its tables (particle_tables.tables)."""
+
+    STOREYS = 0
+    PARAMETERS, COMPUTED = tables(0)
     author = "pidamper developers"
-    description = ("Pendulum-type particle impact damper: primary pendulum and hanging particle, "
-                   "linearised, exact event-driven motion (impacts, chatter, sticking located inside doStep)")
     version = f"{VERSION}+{SOURCE_HASH}"  # changes with the shipped sources, like the GUID
     license = "MIT"
-    default_experiment = DefaultExperiment(start_time=0.0, stop_time=20.0, step_size=0.01)
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        cls.PARAMETERS, cls.COMPUTED = tables(cls.STOREYS)
+        cls._PACK_COMPUTED = struct.Struct(f"={len(cls.COMPUTED)}d")
+        cls._STATE_KEYS = frozenset([name for name, *_ in cls.PARAMETERS] + list(_STATE_EXTRA))
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.guid = uuid.uuid5(uuid.NAMESPACE_URL, "pidamper/PendulumImpactDamper/" + SOURCE_HASH)
+        self.guid = uuid.uuid5(uuid.NAMESPACE_URL, f"pidamper/{type(self).__name__}/" + SOURCE_HASH)
         self._initialized = False
         self._core = None
         self._monitor = None
@@ -171,14 +76,14 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
         for name, unit, desc in INPUTS:
             self.register_variable(Real(name, causality=Fmi2Causality.input, variability=Fmi2Variability.continuous,
                                         description=desc, setter=self._input_setter(name)))
-        for name, kind, start, *_ in PARAMETERS:
+        for name, kind, start, *_ in self.PARAMETERS:
             setattr(self, name, start)
             tunable = name == "e"
             self.register_variable(kind(
                 name, causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.tunable if tunable else Fmi2Variability.fixed,
                 getter=(lambda name=name: getattr(self, name)), setter=self._setter(name, tunable)), nested=False)
-        for k, (name, kind, *_) in enumerate(COMPUTED):
+        for k, (name, kind, *_) in enumerate(self.COMPUTED):
             derived = len(OUTPUTS) <= k < len(OUTPUTS) + len(DERIVED)
             causality = Fmi2Causality.local if derived else Fmi2Causality.output
             self._register_computed(name, kind, causality, self._output_getter(k))
@@ -210,18 +115,14 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
     # ---- the native layer's buffer ----------------------------------------------------
 
     def _attached(self):
-        """The native layer's buffer is in place: the record and the building's zeros go in."""
+        """The native layer's buffer is in place: the record goes in at the next push."""
         self._record_in_buffer = True
-        self._clear_building()
 
     def _push(self, core):
         """Write every output, and the impact record when it changed, into the native layer's buffer."""
         buffer = self._buffer
         off_outputs, off_record = self._offsets
-        if core.p.storeys:
-            _PACK_COMPUTED.pack_into(buffer, off_outputs, *self._outputs(core))
-        else:  # the building's zeros are in the buffer already (_clear_building)
-            _PACK_PENDULUM.pack_into(buffer, off_outputs, *self._pendulum_outputs(core))
+        self._PACK_COMPUTED.pack_into(buffer, off_outputs, *self._outputs(core))
         if self._in_step or self._record_in_buffer:
             _PACK_RECORD.pack_into(buffer, off_record, *self._record_values)
             self._record_in_buffer = self._in_step > 0
@@ -230,26 +131,18 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
         """The values of COMPUTED in its order (of core `c`, default the current one)."""
         if c is None:
             c = self._core_now()
-        return self._pendulum_outputs(c) + (self._building_outputs(c) if c.p.storeys else _NO_BUILDING)
-
-    def _pendulum_outputs(self, c):
-        """The values of OUTPUTS and DERIVED in their order."""
         theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force = c.observables(self.F, self.a_g)
         n = self._in_step
-        return (theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact,
-                x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
-
-    def _clear_building(self):
-        """Zeros for the building's outputs in the native layer's buffer (a step packs them only
-        when there is a building)."""
-        if self._native:
-            _PACK_BUILDING.pack_into(self._buffer, self._offsets[0] + 8 * (len(OUTPUTS) + len(DERIVED)), *_NO_BUILDING)
+        out = (theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact,
+               x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
+        return out + self._building_outputs(c) if self.STOREYS else out
 
     def _building_outputs(self, c):
-        """floor[k].x, floor[k].a, storey[k].drift (zeros beyond storeys) and base_shear."""
+        """floor[k].x, floor[k].a, storey[k].drift, base_shear, the drift ratios and the running
+        maxima (particle_tables.building_outputs)."""
         xs, accs, drifts, shear = c.building_outputs(self.F, self.a_g)
-        pad = _PAD[len(xs)]
-        return tuple(xs) + pad + tuple(accs) + pad + tuple(drifts) + pad + (shear,)
+        ratios, drift_max, v_max, a_max = c.model.peak_outputs(c.x)
+        return (*xs, *accs, *drifts, shear, *ratios, *drift_max, *v_max, *a_max)
 
     # ---- per-step impact record -------------------------------------------------------
 
@@ -289,11 +182,14 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
         return set_value
 
     def _build_core(self):
-        params = Params.from_variables({name: getattr(self, name) for name, *_ in PARAMETERS})
-        core = Damper(params, self.theta_0, self.theta_dot_0, self.alpha_0, self.alpha_dot_0, self._t0)
+        values = {name: getattr(self, name) for name, *_ in self.PARAMETERS}
+        if self.STOREYS:
+            values["storeys"] = self.STOREYS
+        params = Params.from_variables(values)
+        start = {**START, **values}  # a building has no theta_0, theta_dot_0: it starts at rest
+        core = Damper(params, start["theta_0"], start["theta_dot_0"], start["alpha_0"], start["alpha_dot_0"], self._t0)
         core.on_impact = self._record
         core.bound_work()  # fmi2DoStep cannot be interrupted: a step's work is capped
-        self._clear_building()
         limit = self.angle_limit
         if not (math.isfinite(limit) and limit >= 0.0):
             raise ParameterError("angle_limit", limit, "it must be finite and >= 0 (0 turns the warning off)")
@@ -347,7 +243,7 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
 
     @guarded(lambda args: None)
     def _get_fmu_state(self):
-        state = {name: getattr(self, name) for name, *_ in PARAMETERS}
+        state = {name: getattr(self, name) for name, *_ in self.PARAMETERS}
         state["F"] = self.F
         state["a_g"] = self.a_g
         state["_t0"] = self._t0
@@ -360,10 +256,10 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
         return state
 
     def _restore(self, state):
-        if not isinstance(state, dict) or set(state) != _STATE_KEYS:
+        if not isinstance(state, dict) or set(state) != self._STATE_KEYS:
             got = sorted(state) if isinstance(state, dict) else type(state).__name__
             raise Refusal(f"FMU state = {got!r} is not allowed: a state of this model has exactly the keys "
-                          f"{sorted(_STATE_KEYS)}")
+                          f"{sorted(self._STATE_KEYS)}")
         for name in ("F", "a_g", "_t0"):
             check_finite(f"FMU state {name}", state[name])
         record = state["_record"]
@@ -373,7 +269,7 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
                           f"{len(_ZERO_RECORD)} numbers and an integer >= 0")
         for k, value in enumerate(record):
             check_finite(f"FMU state _record[{k}]", value)
-        for name, *_ in PARAMETERS:
+        for name, *_ in self.PARAMETERS:
             setattr(self, name, state[name])
         self.F = state["F"]
         self.a_g = state["a_g"]
@@ -401,8 +297,19 @@ class PendulumImpactDamper(FmiEntry, Fmi2Slave):
         """pythonfmu's description plus units, ranges, descriptions and a full ModelStructure;
         the native layer's link variable is left out (hosts never see it)."""
         root = super().to_xml(model_options)
-        info = {name: (unit, lo, hi, desc) for name, _, _, unit, lo, hi, desc in PARAMETERS}
-        info.update({name: (unit, None, None, desc) for name, _, unit, desc, *_ in COMPUTED + RECORD})
+        info = {name: (unit, lo, hi, desc) for name, _, _, unit, lo, hi, desc in self.PARAMETERS}
+        info.update({name: (unit, None, None, desc) for name, _, unit, desc, *_ in self.COMPUTED + RECORD})
         info.update({name: (unit, None, None, desc) for name, unit, desc in INPUTS})
-        outputs = [(name, ("F", "a_g") if feedthrough else ()) for name, _, _, _, feedthrough in OUTPUTS + BUILDING]
+        local = range(len(OUTPUTS), len(OUTPUTS) + len(DERIVED))
+        outputs = [(name, ("F", "a_g") if feedthrough else ())
+                   for k, (name, _, _, _, feedthrough) in enumerate(self.COMPUTED) if k not in local]
         return describe(root, info, outputs)
+
+
+class PendulumImpactDamper(ParticleSlave):
+    """Pendulum-type particle impact damper, exact event-driven co-simulation."""
+
+    STOREYS = 0
+    description = ("Pendulum-type particle impact damper: primary pendulum and hanging particle, "
+                   "linearised, exact event-driven motion (impacts, chatter, sticking located inside doStep)")
+    default_experiment = DefaultExperiment(start_time=0.0, stop_time=20.0, step_size=0.01)

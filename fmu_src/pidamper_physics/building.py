@@ -20,10 +20,11 @@ from .eigen import jacobi_eigh
 class ShearBuilding:
     """Matrices and modes of an N-storey shear building (see the module doc).
 
-    masses [kg], stiffnesses [N/m]: sequences of N positive numbers (floor / storey 1 first);
-    zeta [1]: the damping ratio of every mode, 0 <= zeta < 1 (Params checks them all)."""
+    masses [kg], stiffnesses [N/m], heights [m]: sequences of N positive numbers (floor / storey 1
+    first; heights default to 3 m); zeta [1]: the damping ratio of every mode, 0 <= zeta < 1
+    (Params checks them all)."""
 
-    def __init__(self, masses, stiffnesses, zeta=0.0):
+    def __init__(self, masses, stiffnesses, zeta=0.0, heights=None):
         n = len(masses)
         if n < 1 or len(stiffnesses) != n:
             raise ValueError("a shear building needs a mass and a stiffness per storey")
@@ -31,6 +32,7 @@ class ShearBuilding:
         self.masses = [float(m) for m in masses]
         self.stiffnesses = [float(k) for k in stiffnesses]
         self.zeta = float(zeta)
+        self.heights = [3.0] * n if heights is None else [float(h) for h in heights]
         ks = self.stiffnesses + [0.0]
         self.K = [[0.0] * n for _ in range(n)]
         for i in range(n):
@@ -60,6 +62,10 @@ class ShearBuilding:
     def drifts(self, x):
         """Storey drifts x_k - x_(k-1) [m] of floor displacements x (relative to the ground)."""
         return [x[k] - (x[k - 1] if k else 0.0) for k in range(self.n)]
+
+    def drift_ratios(self, x):
+        """Storey drift ratios (x_k - x_(k-1)) / h_k [1] of floor displacements x."""
+        return [(x[k] - (x[k - 1] if k else 0.0)) / self.heights[k] for k in range(self.n)]
 
     def base_shear(self, x, v):
         """Force of the building on the ground [N] (storey 1's spring and the dashpots' ground

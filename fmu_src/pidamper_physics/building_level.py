@@ -22,8 +22,9 @@ the riding N-DOF one are solved in closed form by modes (modal.py).
 from .impact import collide, impact_loss
 from .level_model import LevelModel
 from .modal import Modes, ModesError
-from .modal_segments import ModalFlight, ModalStick, harmonic_work
+from .modal_segments import ModalFlight, ModalStick, harmonic_work, take_peaks
 from .params import ParameterError, check_finite
+from .peaks import Peaks
 
 
 def _per_mass(matrix, masses):
@@ -63,6 +64,8 @@ class BuildingModel(LevelModel):
                                  f"the building with its particle needs distinct modes: {err}") from None
         self.fastest = max(self.free[0].fastest, self.ride[0].fastest, p.Omega_acting)
         self.others = [0.0] * (2 * (n - 1))
+        self.peaks = Peaks(b.heights)  # the running maxima (peaks.py), raised along every piece
+        self._ground = 0.0  # the held ground acceleration of the segments being built [m/s2]
 
     # ---- state ------------------------------------------------------------------------
 
@@ -79,12 +82,14 @@ class BuildingModel(LevelModel):
         self.others = list(xs[:j]) + list(xs[j + 1:]) + list(vs[:j]) + list(vs[j + 1:])
 
     def follow(self, seg, tau):
-        """The other floors at tau of the piece the Damper takes."""
+        """The other floors at tau of the piece the Damper takes, and the maxima along it."""
+        seg.take_peaks(self.peaks, tau, self._ground)
         self.others = seg.others(tau)
 
     def get_state(self):
         state = super().get_state()
         state["others"] = list(self.others)  # the other floors
+        state["peaks"] = self.peaks.get_state()  # the running maxima and the ground's velocity
         return state
 
     def set_state(self, state):
@@ -93,6 +98,7 @@ class BuildingModel(LevelModel):
             raise ParameterError("state others", others, f"{len(self.others)} numbers: the other floors")
         for k, value in enumerate(others):
             check_finite(f"state others[{k}]", value)
+        self.peaks.set_state(state.get("peaks"))
         self.others = [float(v) for v in others]
 
     def displacements(self, x, v, y, u):
@@ -128,6 +134,7 @@ class BuildingModel(LevelModel):
 
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
         p = self.p
+        self._ground = -fc[1]
         n, j, o = self.n, self.j, self.others
         z0 = o[:j] + [x] + o[j:n - 1] + [y] + o[n - 1:n - 1 + j] + [v] + o[n - 1 + j:] + [u]
         return BuildingFlight(self.free, z0, self._loads(fc), p.F0 / p.M, p.Omega, psi, T, p.D, always_bound,
@@ -135,6 +142,7 @@ class BuildingModel(LevelModel):
 
     def stick(self, x, v, side, fc, psi, T):
         p = self.p
+        self._ground = -fc[1]
         n, j, o = self.n, self.j, self.others
         z0 = o[:j] + [x] + o[j:n - 1] + o[n - 1:n - 1 + j] + [v] + o[n - 1 + j:]
         mj = p.M
@@ -199,6 +207,12 @@ class BuildingModel(LevelModel):
         acc = [a + ground for a in self._accelerations(x, v, y, u, side, f, ground)]
         return xs, acc, b.drifts(xs), b.base_shear(xs, vs)
 
+    def peak_outputs(self, x):
+        """(storey drift ratios [1] of the current state, and the running maxima: |drift ratio|
+        per storey [1], |absolute velocity| and |absolute acceleration| per floor [m/s, m/s2])."""
+        pk = self.peaks
+        return self.p.building.drift_ratios(self.floors(x, 0.0)[0]), pk.drift, pk.velocity, pk.acceleration
+
     def work(self, seg, tau, before, after, fc, psi, e_change):
         """(work of the held loads and the harmonic, work taken by the dashpots) over a piece."""
         p = self.p
@@ -218,6 +232,11 @@ def _floor_velocity(seg, tau):
 class BuildingFlight(ModalFlight):
     """Free flight of the building and the particle: z = (x_1..x_N, y, v_1..v_N, u); guards as in
     ModalFlight on the gap x_j - y."""
+
+    def take_peaks(self, peaks, tau, ground):
+        """Raise the building's running maxima (peaks.Peaks) over [0, tau] of this piece."""
+        j, n = self.gap
+        take_peaks(self, peaks, tau, ground, n + 1, j, self.f)
 
     __slots__ = ("_tau", "_z", "start_floors")
 

@@ -134,17 +134,12 @@ class ModalStick:
 
     def _chain(self, tau):
         """z, its acceleration and jerk vectors, and sin, cos of the load at tau."""
-        z = self.state(tau)
-        n, K, C, b, a, om = self.n, self.K, self.C, self.b, self.a, self.om
         s, c = self.motion.load(tau)
-        x, v = z[:n], z[n:]
-        acc = [b[r] - sum(K[r][k] * x[k] for k in range(n)) - sum(C[r][k] * v[k] for k in range(n)) for r in range(n)]
-        acc[self.j] += a * s
-        jerk = [-sum(K[r][k] * v[k] for k in range(n)) - sum(C[r][k] * acc[k] for k in range(n)) for r in range(n)]
-        jerk[self.j] += a * om * c
-        snap = [-sum(K[r][k] * acc[k] for k in range(n)) - sum(C[r][k] * jerk[k] for k in range(n)) for r in range(n)]
-        snap[self.j] -= a * om * om * s
-        return x, v, acc, jerk, snap, s, c
+        return chain(self.state(tau), self.n, self.K, self.C, self.b, self.j, self.a, self.om, s, c) + (s, c)
+
+    def take_peaks(self, peaks, tau, ground):
+        """Raise a building's running maxima (peaks.Peaks) over [0, tau] of this piece."""
+        take_peaks(self, peaks, tau, ground, self.n, self.j, self.a)
 
     def values(self, tau):
         x, v, acc, _, _, s, c = self._chain(tau)
@@ -161,6 +156,32 @@ class ModalStick:
                 sg * (sum(kx[k] * v[k] + kv[k] * acc[k] for k in rng) + a * om * c),
                 sg * (sum(kx[k] * acc[k] + kv[k] * jerk[k] for k in rng) - a * om * om * s),
                 sg * (sum(kx[k] * jerk[k] + kv[k] * snap[k] for k in rng) - a * om ** 3 * c))
+
+
+def chain(z, n, K, C, b, j, a, om, s, c):
+    """(x, v, acc, jerk, snap) of q'' + C q' + K q = b + e_j a sin(Omega tau + psi) at the state
+    z = (q, q') of n DOF, given s, c = sin, cos(Omega tau + psi)."""
+    x, v = z[:n], z[n:]
+    acc = [b[r] - sum(K[r][k] * x[k] for k in range(n)) - sum(C[r][k] * v[k] for k in range(n)) for r in range(n)]
+    acc[j] += a * s
+    jerk = [-sum(K[r][k] * v[k] for k in range(n)) - sum(C[r][k] * acc[k] for k in range(n)) for r in range(n)]
+    jerk[j] += a * om * c
+    snap = [-sum(K[r][k] * acc[k] for k in range(n)) - sum(C[r][k] * jerk[k] for k in range(n)) for r in range(n)]
+    snap[j] -= a * om * om * s
+    return x, v, acc, jerk, snap
+
+
+def take_peaks(seg, peaks, tau, ground, n, j, a):
+    """Raise `peaks` (a building's running maxima, floors = the first DOF of the segment's system
+    of n DOF, the harmonic a sin on DOF j) over [0, tau] of `seg`, under ground acceleration `ground`."""
+    motion, K, C, b, om = seg.motion, seg.K, seg.C, seg.b, seg.om
+    rows = list(range(peaks.n))
+
+    def at(tau_):
+        s, c = motion.load(tau_)
+        return chain(seg.state(tau_), n, K, C, b, j, a, om, s, c)
+
+    peaks.take(at, motion.bounds(tau, 6, rows), motion.rest(rows), tau, ground)
 
 
 def harmonic_work(seg, tau, amplitude, om, psi, velocity):

@@ -38,6 +38,8 @@ DEFAULTS = {"g": 9.81, "M": 1.0, "mu": 0.1, "L2": 1.0, "FR": 5.0, "d": 0.1, "d_a
 MAX_STOREYS = 10
 FLOOR_MASS = 1.0e5
 STOREY_STIFFNESS = 8.0e7
+#: default storey height [m] (storey[k].h: the drift ratio is the drift / h)
+STOREY_HEIGHT = 3.0
 #: default initial state [rad, rad/s]: particle at rest, primary started by a velocity
 INITIAL_DEFAULTS = {"theta_0": 0.0, "theta_dot_0": 0.5, "alpha_0": 0.0, "alpha_dot_0": 0.0}
 
@@ -77,13 +79,13 @@ class Params:
     """Validated physical parameters plus the derived quantities the solver uses."""
 
     NAMES = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi", "fidelity",
-             "zeta_s", "zeta_p", "storeys", "damper_floor", "floor_m", "storey_k")
+             "zeta_s", "zeta_p", "storeys", "damper_floor", "floor_m", "storey_k", "storey_h")
 
     def __init__(self, g=DEFAULTS["g"], M=DEFAULTS["M"], mu=DEFAULTS["mu"], L2=DEFAULTS["L2"],
                  FR=DEFAULTS["FR"], d=DEFAULTS["d"], d_angle=DEFAULTS["d_angle"], e=DEFAULTS["e"],
                  contact_form=DEFAULTS["contact_form"], F0=DEFAULTS["F0"], Omega=DEFAULTS["Omega"],
                  phi=DEFAULTS["phi"], fidelity=DEFAULTS["fidelity"], zeta_s=DEFAULTS["zeta_s"],
-                 zeta_p=DEFAULTS["zeta_p"], storeys=0, damper_floor=0, floor_m=None, storey_k=None):
+                 zeta_p=DEFAULTS["zeta_p"], storeys=0, damper_floor=0, floor_m=None, storey_k=None, storey_h=None):
         for name in ("g", "M", "L2", "FR", "d", "d_angle"):
             _positive(name, locals()[name])
         if check_finite("mu", mu) < 0.0:
@@ -104,6 +106,7 @@ class Params:
         self.storeys, self.damper_floor, self.building = _check_building(storeys, damper_floor, fidelity, contact_form)
         self.floor_m = _per_storey("floor_m", floor_m, FLOOR_MASS)
         self.storey_k = _per_storey("storey_k", storey_k, STOREY_STIFFNESS)
+        self.storey_h = _per_storey("storey_h", storey_h, STOREY_HEIGHT)
         if self.storeys:
             self._set_building()
         else:
@@ -142,7 +145,7 @@ class Params:
         """Derived quantities of a building (storeys >= 1): the ShearBuilding, the particle's m, w1,
         L1, and M = the damper floor's mass (the force F acts on that floor)."""
         n = self.storeys
-        self.building = check_building(self.floor_m[:n], self.storey_k[:n], self.zeta_s)
+        self.building = check_building(self.floor_m[:n], self.storey_k[:n], self.zeta_s, self.storey_h[:n])
         self.floor = (self.damper_floor or n) - 1  # index of the damper floor
         self.M = self.building.masses[self.floor]
         self.m = self.mu * self.building.total_mass
@@ -156,33 +159,37 @@ class Params:
 
     @classmethod
     def from_variables(cls, values):
-        """Params from FMU variable names: the NAMES plus floor[k].m and storey[k].k (k = 1..10);
-        other names are ignored."""
+        """Params from FMU variable names: the NAMES plus floor[k].m, storey[k].k and storey[k].h
+        (k = 1..10); other names are ignored."""
         kwargs = {k: v for k, v in values.items() if k in cls.NAMES}
-        for key, pattern in (("floor_m", "floor[{}].m"), ("storey_k", "storey[{}].k")):
+        for key, pattern, default in (("floor_m", "floor[{}].m", FLOOR_MASS),
+                                      ("storey_k", "storey[{}].k", STOREY_STIFFNESS),
+                                      ("storey_h", "storey[{}].h", STOREY_HEIGHT)):
             listed = [values.get(pattern.format(k)) for k in range(1, MAX_STOREYS + 1)]
             if any(v is not None for v in listed):
-                default = FLOOR_MASS if key == "floor_m" else STOREY_STIFFNESS
                 kwargs[key] = [default if v is None else v for v in listed]
         return cls(**kwargs)
 
 
-def check_building(masses, stiffnesses, zeta=0.0):
-    """The ShearBuilding of floor masses [kg] and storey stiffnesses [N/m] (floor / storey 1 first)
-    with every mode at damping ratio zeta, once they are checked: a ParameterError names the value
-    (storeys, floor[k].m, storey[k].k, zeta_s) and the rule."""
+def check_building(masses, stiffnesses, zeta=0.0, heights=None):
+    """The ShearBuilding of floor masses [kg], storey stiffnesses [N/m] and storey heights [m]
+    (floor / storey 1 first; heights default to STOREY_HEIGHT) with every mode at damping ratio
+    zeta, once they are checked: a ParameterError names the value (storeys, floor[k].m, storey[k].k,
+    storey[k].h, zeta_s) and the rule."""
     n = len(masses)
-    if not 1 <= n <= MAX_STOREYS or len(stiffnesses) != n:
-        raise ParameterError("storeys", n, f"it must lie in 1..{MAX_STOREYS}, with a mass and a stiffness per storey")
+    heights = [STOREY_HEIGHT] * n if heights is None else list(heights)
+    if not 1 <= n <= MAX_STOREYS or len(stiffnesses) != n or len(heights) != n:
+        raise ParameterError("storeys", n, f"it must lie in 1..{MAX_STOREYS}, with a mass, a stiffness and a height "
+                                           "per storey")
     lo, hi = SCALE_RANGE
-    for pattern, values in (("floor[{}].m", masses), ("storey[{}].k", stiffnesses)):
+    for pattern, values in (("floor[{}].m", masses), ("storey[{}].k", stiffnesses), ("storey[{}].h", heights)):
         for k, value in enumerate(values, start=1):
             if not lo <= check_finite(pattern.format(k), value) <= hi:
                 raise ParameterError(pattern.format(k), value, f"it must lie in {lo:g} to {hi:g} (> 0)")
     zeta = check_finite("zeta_s", zeta)
     if not 0.0 <= zeta < 1.0 or 1.0 - zeta * zeta < ZETA_GAP:
         raise ParameterError("zeta_s", zeta, f"it must lie in [0, 1) with 1 - zeta_s^2 >= {ZETA_GAP:g}")
-    return ShearBuilding(masses, stiffnesses, zeta)
+    return ShearBuilding(masses, stiffnesses, zeta, heights)
 
 
 def _per_storey(name, values, default):

@@ -15,12 +15,16 @@ modal terms q_r' jumps by `Phi[k][r] J`.  A step with impulses at instants insid
 piece by piece between them, so it is exact for held loads and instantaneous impulses.
 
 The state is kept in modal coordinates (q, q'), so stepping never re-projects; floor values are
-derived from it.  Plain Python (math): this ships inside the FMU.
+derived from it.  The running maxima of the drift ratios and of the floors' absolute velocity and
+acceleration (peaks.Peaks) are raised along every piece, the impulses' one-sided values included.
+Plain Python (math): this ships inside the FMU.
 """
+import math
 
 from .building import ShearBuilding
 from .oscillator import DampedOscillator
 from .params import ParameterError, check_building, check_finite
+from .peaks import Peaks
 
 #: the building of floor masses and storey stiffnesses, checked (params.check_building)
 make_building = check_building
@@ -48,6 +52,9 @@ class ShearMotion:
         # modal projections q = Phi^T M x
         self.q = [sum(phi[k][r] * m[k] * x0[k] for k in range(n)) for r in range(n)]
         self.qd = [sum(phi[k][r] * m[k] * v0[k] for k in range(n)) for r in range(n)]
+        self.peaks = Peaks(building.heights)
+        self._per_mass = ([[c / m[k] for c in row] for k, row in enumerate(building.C)],
+                          [[c / m[k] for c in row] for k, row in enumerate(building.K)])
 
     # ---- floor values ------------------------------------------------------------------
 
@@ -89,33 +96,57 @@ class ShearMotion:
             raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
         phi, m = b.shapes, b.masses
         loads = [sum(phi[k][r] * (forces[k] - m[k] * ground) for k in range(n)) for r in range(n)]
+        held = [forces[k] / m[k] - ground for k in range(n)]  # relative loads per floor mass
         kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0)
         t = self.t
         for t_k, k, j in kicks:
-            self._free(t_k - t, loads)
+            self._free(t_k - t, loads, held, ground)
             t = t_k
             for r in range(n):
                 self.qd[r] += phi[k][r] * j
-        self._free(t_end - t, loads)
+        self._free(t_end - t, loads, held, ground)
         self.t = t_end
 
-    def _free(self, tau, loads):
-        if tau <= 0.0:
-            return
+    def _free(self, tau, loads, held, ground):
         q, qd = self.q, self.qd
         for r, mode in enumerate(self.modes):
             mode.start(q[r], qd[r], loads[r])
+        self._take_peaks(max(tau, 0.0), held, ground)
+        if tau <= 0.0:
+            return
+        for r, mode in enumerate(self.modes):
             q[r], qd[r] = mode.at(tau)
+
+    def _take_peaks(self, tau, held, ground):
+        """Raise the running maxima over the piece [0, tau] the started modes describe."""
+        phi, n, modes = self.b.shapes, self.n, self.modes
+        C, K = self._per_mass
+
+        def at(s):
+            qs = [mode.at(s) for mode in modes]
+            x = [sum(phi[k][r] * qs[r][0] for r in range(n)) for k in range(n)]
+            v = [sum(phi[k][r] * qs[r][1] for r in range(n)) for k in range(n)]
+            acc = [held[k] - sum(C[k][i] * v[i] + K[k][i] * x[i] for i in range(n)) for k in range(n)]
+            jerk = [-sum(C[k][i] * acc[i] + K[k][i] * v[i] for i in range(n)) for k in range(n)]
+            snap = [-sum(C[k][i] * jerk[i] + K[k][i] * acc[i] for i in range(n)) for k in range(n)]
+            return x, v, acc, jerk, snap
+
+        # each mode's free part is exp(-s tau) (A cos + B sin): |d^j| <= sqrt(A^2 + B^2) w^j
+        amps = [math.hypot(mode.a, mode.b) for mode in modes]
+        bounds = [[sum(abs(phi[k][r]) * amps[r] * modes[r].w ** j for r in range(n)) for j in range(6)]
+                  for k in range(n)]
+        rest = [sum(phi[k][r] * modes[r].p / modes[r].ww for r in range(n)) for k in range(n)]
+        self.peaks.take(at, bounds, rest, tau, ground)
 
     # ---- state ----------------------------------------------------------------------------
 
     def get_state(self):
-        return {"t": self.t, "q": list(self.q), "qd": list(self.qd)}
+        return {"t": self.t, "q": list(self.q), "qd": list(self.qd), "peaks": self.peaks.get_state()}
 
     def set_state(self, state):
-        if not isinstance(state, dict) or set(state) != {"t", "q", "qd"}:
+        if not isinstance(state, dict) or set(state) != {"t", "q", "qd", "peaks"}:
             raise ParameterError("state", state if not isinstance(state, dict) else sorted(state),
-                                 "it must be the dict ShearMotion.get_state writes (keys t, q, qd)")
+                                 "it must be the dict ShearMotion.get_state writes (keys t, q, qd, peaks)")
         check_finite("state t", state["t"])
         for key in ("q", "qd"):
             values = state[key]
@@ -123,6 +154,7 @@ class ShearMotion:
                 raise ParameterError(f"state {key}", values, f"it must be a list of {self.n} numbers")
             for k, value in enumerate(values):
                 check_finite(f"state {key}[{k}]", value)
+        self.peaks.set_state(state["peaks"])
         self.t = float(state["t"])
         self.q = [float(v) for v in state["q"]]
         self.qd = [float(v) for v in state["qd"]]

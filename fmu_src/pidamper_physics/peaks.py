@@ -1,0 +1,179 @@
+"""Exact running maxima of a building's response, located on its closed-form pieces.
+
+Per storey k the peak |drift ratio| (x_k - x_(k-1)) / h_k, per floor the peak |absolute velocity|
+v_k + v_g and the peak |absolute acceleration| x_k'' + a_g (its regular part: an impact's or an
+impulse's velocity jump is an impulse, not an acceleration; both one-sided values at the jump
+count, as the end of one piece and the start of the next).  v_g is the ground's velocity, the
+integral of the held a_g from rest at the start.
+
+Each piece the motion takes is a closed form f(s), 0 <= s <= tau, whose value and first two
+derivatives the piece gives at any s (`chain`), with a bound B3 on |f'''| over the piece
+(`bounds`).  Between two points a < b, Taylor's theorem bounds f from either end:
+
+    sigma f(a + s) <= sigma (f + f' s + f'' s^2 / 2)(a) + B3 s^3 / 6      (and backwards from b),
+
+so the interval holds nothing above the running maximum once the better of the two cubics stays
+below it (`_cubic_max`); else a Newton step on f' (the vertex of the nearer end's quadratic)
+proposes the next point, or the interval is halved.  Near a maximum Newton lands on it, and its
+negative curvature then clears the neighbourhood on both sides, so a new peak costs a few
+evaluations.  A quantity whose bound over the whole piece stays below its maximum is not
+evaluated at all.  Accepted excess: REL of the maximum (a peak is exact to that, far below the
+motion's own rounding).
+Plain Python (math): this ships inside the FMU.
+"""
+import math
+
+from .params import ParameterError, check_finite
+
+REL = 1e-13  # relative excess over the running maximum an interval may hide
+_TINY = 1e-300
+_MAX_POINTS = 400  # evaluations per piece before the rest of it is accepted (never reached in practice)
+
+
+def _cubic_max(f, f1, f2, b3, length):
+    """Max over 0 <= s <= length of |f + f1 s + f2 s^2/2| + b3 s^3/6 (both signs)."""
+    best = 0.0
+    for sg in (1.0, -1.0):
+        c0, c1, c2 = sg * f, sg * f1, sg * f2
+        top = c0 if c0 > 0.0 else 0.0
+        end = c0 + length * (c1 + length * (0.5 * c2 + length * b3 / 6.0))
+        if end > top:
+            top = end
+        # the local maximum of the cubic: the smaller root of c1 + c2 s + b3 s^2 / 2
+        if b3 > 0.0:
+            disc = c2 * c2 - 2.0 * b3 * c1
+            if disc >= 0.0:
+                s = (-c2 - math.sqrt(disc)) / b3
+                if 0.0 < s < length:
+                    top = max(top, c0 + s * (c1 + s * (0.5 * c2 + s * b3 / 6.0)))
+        elif c2 < 0.0 < c1:
+            s = -c1 / c2
+            if s < length:
+                top = max(top, c0 + 0.5 * c1 * s)
+        if top > best:
+            best = top
+    return best
+
+
+class Peaks:
+    """Running maxima of a building of storey heights `heights` [m] (storey 1 first); see the
+    module doc.  `drift`, `velocity`, `acceleration`: per storey / floor [1, m/s, m/s2];
+    `v_ground` [m/s]: the ground's velocity at the state's time."""
+
+    def __init__(self, heights):
+        self.n = n = len(heights)
+        self.inv_h = [1.0 / h for h in heights]
+        self.drift, self.velocity, self.acceleration = [0.0] * n, [0.0] * n, [0.0] * n
+        self.v_ground = 0.0
+
+    # ---- state ------------------------------------------------------------------------
+
+    def get_state(self):
+        return {"drift": list(self.drift), "velocity": list(self.velocity), "acceleration": list(self.acceleration),
+                "v_ground": self.v_ground}
+
+    def set_state(self, state):
+        """Restore get_state's dict; anything else is refused naming the key (ParameterError)."""
+        keys = {"drift", "velocity", "acceleration", "v_ground"}
+        if not isinstance(state, dict) or set(state) != keys:
+            raise ParameterError("state peaks", state, f"the dict Peaks.get_state writes (keys {sorted(keys)})")
+        lists = []
+        for key in ("drift", "velocity", "acceleration"):
+            values = state[key]
+            if not isinstance(values, list) or len(values) != self.n:
+                raise ParameterError(f"state peaks {key}", values, f"a list of {self.n} numbers")
+            lists.append([check_finite(f"state peaks {key}[{k}]", v) for k, v in enumerate(values)])
+        v_ground = check_finite("state peaks v_ground", state["v_ground"])
+        self.drift, self.velocity, self.acceleration = lists
+        self.v_ground = v_ground
+
+    # ---- one piece ----------------------------------------------------------------------
+
+    def take(self, chain, bounds, rest, tau, a_g):
+        """Raise the maxima over a piece of length tau >= 0 [s] under the held ground acceleration
+        a_g [m/s2], then move the ground's velocity on.  chain(s) -> (x, v, acc, jerk, snap) of the
+        floors relative to the ground (floor 1 first; extra entries ignored); bounds: per floor the
+        bounds of |x_k - rest_k|, |x_k'|, ..., |x_k^(5)| over the piece; rest: per floor rest_k."""
+        n, ih = self.n, self.inv_h
+        vg = self.v_ground
+        active = []  # (kind, k, B3): the quantities whose bound over the piece reaches their maximum
+        for k in range(n):
+            bk = bounds[k]
+            if k:
+                bl, rl = bounds[k - 1], rest[k - 1]
+                reach = (abs(rest[k] - rl) + bk[0] + bl[0]) * ih[k]
+                b3 = (bk[3] + bl[3]) * ih[k]
+            else:
+                reach, b3 = (abs(rest[0]) + bk[0]) * ih[0], bk[3] * ih[0]
+            if reach > self.drift[k]:
+                active.append((0, k, b3))
+            if bk[1] + abs(vg) + abs(a_g) * tau > self.velocity[k]:
+                active.append((1, k, bk[4]))
+            if bk[2] + abs(a_g) > self.acceleration[k]:
+                active.append((2, k, bk[5]))
+        if active:
+            self._scan(chain, active, tau, a_g)
+        self.v_ground = vg + a_g * tau
+
+    def _values(self, point, s, a_g, active):
+        """(f, f', f'') of each active quantity at the chain point taken at s; raises the maxima."""
+        x, v, acc, jerk, snap = point
+        ih, vg = self.inv_h, self.v_ground + a_g * s
+        tops = (self.drift, self.velocity, self.acceleration)
+        out = []
+        for kind, k, _ in active:
+            if kind == 0:
+                if k:
+                    i = k - 1
+                    f, f1, f2 = (x[k] - x[i]) * ih[k], (v[k] - v[i]) * ih[k], (acc[k] - acc[i]) * ih[k]
+                else:
+                    f, f1, f2 = x[0] * ih[0], v[0] * ih[0], acc[0] * ih[0]
+            elif kind == 1:
+                f, f1, f2 = v[k] + vg, acc[k] + a_g, jerk[k]
+            else:
+                f, f1, f2 = acc[k] + a_g, jerk[k], snap[k]
+            top = tops[kind]
+            if abs(f) > top[k]:
+                top[k] = abs(f)
+            out.append((f, f1, f2))
+        return out
+
+    def _scan(self, chain, active, tau, a_g):
+        """Certify [0, tau] interval by interval (see the module doc)."""
+        tops = (self.drift, self.velocity, self.acceleration)
+        a, fa = 0.0, self._values(chain(0.0), 0.0, a_g, active)
+        if tau <= 0.0:
+            return
+        b = tau
+        for _ in range(_MAX_POINTS):
+            fb = self._values(chain(b), b, a_g, active)
+            length = b - a
+            worst, excess = -1, 0.0
+            for i, (kind, k, b3) in enumerate(active):
+                ya, yb = fa[i], fb[i]
+                bound = min(_cubic_max(ya[0], ya[1], ya[2], b3, length), _cubic_max(yb[0], -yb[1], yb[2], b3, length))
+                top = tops[kind][k]
+                over = bound - top * (1.0 + REL) - _TINY
+                if over > excess:
+                    worst, excess = i, over
+            if worst < 0 or length <= 4e-16 * tau:  # certified (or down to rounding of the clock)
+                if b >= tau:
+                    return
+                a, fa, b = b, fb, tau
+                continue
+            b = a + self._next(fa[worst], fb[worst], length)
+        # never reached in practice: what is left is accepted (its ends are counted)
+
+    @staticmethod
+    def _next(ya, yb, length):
+        """Offset from a of the next point, well inside (0, length): a Newton step on f' from the
+        end whose quadratic turns towards an extremum of |f| inside, else the midpoint.  (A step
+        that lands on the other end is no new point: that end came from the same step.)"""
+        lo, hi = 1e-6 * length, (1.0 - 1e-6) * length
+        for f, f1, f2, back in ((yb[0], yb[1], yb[2], True), (ya[0], ya[1], ya[2], False)):
+            if f2 != 0.0 and f * f2 < 0.0:
+                s = -f1 / f2  # the vertex, measured from that end
+                s = length + s if back else s
+                if lo < s < hi:
+                    return s
+        return 0.5 * length
