@@ -1,17 +1,32 @@
-"""Shared fixtures: one FMU built in a separate process for the whole session."""
+"""Shared fixtures: the FMUs built in a separate process for the whole session."""
+import os
 import subprocess
 import sys
 
 import pytest
 
 
+#: the building FMUs the session builds beside the pendulum system's and the unit
+SESSION_STOREYS = ("1", "2", "3", "10")
+
+
 @pytest.fixture(scope="session")
-def fmu_path(tmp_path_factory):
-    """The FMU as `python -m build_fmu --out DIR` builds it (in a fresh process)."""
+def fmu_dir(tmp_path_factory):
+    """The FMUs as `python -m build_fmu --storeys 1 2 3 10 --out DIR` builds them (in a fresh
+    process); find_fmu looks there for the whole session (PIDAMPER_FMU_DIR), and builds any other
+    variant there on demand."""
     out = tmp_path_factory.mktemp("fmu")
-    done = subprocess.run([sys.executable, "-m", "build_fmu", "--out", str(out)], capture_output=True, text=True)
+    done = subprocess.run([sys.executable, "-m", "build_fmu", "--out", str(out), "--storeys", *SESSION_STOREYS],
+                          capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
-    path = out / "PendulumImpactDamper.fmu"
+    os.environ["PIDAMPER_FMU_DIR"] = str(out)
+    return out
+
+
+@pytest.fixture(scope="session")
+def fmu_path(fmu_dir):
+    """PendulumImpactDamper.fmu of the session's build."""
+    path = fmu_dir / "PendulumImpactDamper.fmu"
     assert path.is_file()
     return path
 

@@ -62,11 +62,11 @@ def write(tmp_path, suite=GENERATED, name="tiny.toml"):
 
 
 @pytest.fixture(scope="module")
-def tiny(fmu_path, tmp_path_factory):
+def tiny(fmu_dir, tmp_path_factory):
     folder = tmp_path_factory.mktemp("assess")
     study = write(folder)
     out = folder / "out"
-    assert main(["assess", str(study), "--out", str(out), "--workers", "2", "--fmu", str(fmu_path)]) == 0
+    assert main(["assess", str(study), "--out", str(out), "--workers", "2"]) == 0  # DampedShearBuilding2.fmu
     return study, out
 
 
@@ -86,10 +86,10 @@ def test_the_whole_path_writes_a_page_figures_and_a_tidy_table(tiny):
     assert "```toml" in page and "pidamper assess" in page
 
 
-def test_a_second_run_resumes_without_running_again(tiny, fmu_path):
+def test_a_second_run_resumes_without_running_again(tiny, fmu_dir):
     study, out = tiny
     before = (out / "runs.csv").read_text()
-    rows, _, _ = assess.assess(study, out, fmu=str(fmu_path), progress=False)
+    rows, _, _ = assess.assess(study, out, fmu=str(fmu_dir / "DampedShearBuilding2.fmu"), progress=False)
     assert (out / "runs.csv").read_text() == before and len(rows) == 48
 
 

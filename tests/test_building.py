@@ -209,15 +209,23 @@ FMU_BUILDING = {"storeys": 4, "damper_floor": 3, "fidelity": 1, "zeta_s": 0.02, 
                 **{f"storey[{k}].k": STIFF[k - 1] for k in range(1, 11)}}
 
 
-def test_fmu_building_outputs_follow_the_core(fmu_path):
-    """Bit for bit with the core at every step: angles, every floor's outputs, the base shear; zeros
-    beyond `storeys`."""
-    from pidamper import CoreStepper, FmuStepper, forcing
+def test_fmu_building_outputs_follow_the_core(fmu_dir):
+    """DampedShearBuilding4.fmu, bit for bit with the core at every step: angles, every floor's
+    outputs, the base shear, the drift ratios and the running maxima; exactly four floors'
+    variables, none of the pendulum primary's."""
+    import fmpy
 
+    from pidamper import CoreStepper, FmuStepper, find_fmu, forcing
+
+    path = find_fmu(storeys=4)
+    assert path == fmu_dir / "DampedShearBuilding4.fmu"
+    names = {v.name for v in fmpy.read_model_description(str(path)).modelVariables}
+    assert {"floor[4].m", "storey[4].h", "storey[4].drift_ratio_max"} <= names
+    assert not names & {"floor[5].m", "floor[5].x", "storeys", "M", "L2", "theta_0", "contact_form", "d_angle"}
     signal = forcing.kanai_tajimi(3.0, pga=3.0, seed=2, dt=0.01)
-    names = [f"floor[{k}].{f}" for k in range(1, 5) for f in ("x", "a")] + \
-        [f"storey[{k}].drift" for k in range(1, 5)] + ["base_shear"]
-    with FmuStepper(fmu_path, FMU_BUILDING, forcing=signal) as fmu, \
+    names = [f"floor[{k}].{f}" for k in range(1, 5) for f in ("x", "a", "v_abs_max", "a_abs_max")] + \
+        [f"storey[{k}].{f}" for k in range(1, 5) for f in ("drift", "drift_ratio", "drift_ratio_max")] + ["base_shear"]
+    with FmuStepper(path, FMU_BUILDING, forcing=signal) as fmu, \
             CoreStepper(FMU_BUILDING, forcing=signal) as core:
         for k in range(1, 301):
             fmu.advance(0.01 * k)
@@ -226,7 +234,7 @@ def test_fmu_building_outputs_follow_the_core(fmu_path):
             assert [fmu.get(n) for n in names] == [core.get(n) for n in names]
         assert fmu.get("impacts") == core.get("impacts") > 10
         assert fmu.get("x") == core.get("floor[3].x")  # x is the damper floor's displacement
-        assert [fmu.get(f"floor[{k}].{f}") for k in range(5, 11) for f in ("x", "a")] == [0.0] * 12
+        assert fmu.get("storey[2].drift_ratio_max") >= abs(fmu.get("storey[2].drift_ratio")) > 0.0
 
 
 @pytest.mark.parametrize("values,expected", [
@@ -235,9 +243,18 @@ def test_fmu_building_outputs_follow_the_core(fmu_path):
     ({"storeys": 3, "fidelity": 3}, "fidelity = 3"),
     ({"storeys": 2, "floor[2].m": 0.0}, "floor[2].m = 0.0"),
     ({"storeys": 2, "storey[1].k": float("inf")}, "storey[1].k = inf"),
+    ({"storeys": 3, "storey[2].h": 0.0}, "storey[2].h = 0.0"),
+    ({"storeys": 1, "storey[1].h": -3.0}, "storey[1].h = -3.0"),
 ])
-def test_fmu_refuses_a_bad_building_by_name(fmu_path, values, expected):
+def test_fmu_refuses_a_bad_building_by_name(fmu_dir, values, expected):
+    from pidamper import find_fmu
     from pidamper.running import isolated
 
-    text = isolated.call("pidamper.benchmarks.fatal_checks:bad_values", str(fmu_path), values)
+    if values["storeys"] > 10:  # no such FMU: find_fmu names the range
+        with pytest.raises(ValueError, match=r"storeys = 12 is not allowed: an integer in 1\.\.10"):
+            find_fmu(storeys=values["storeys"])
+        return
+    path = find_fmu(storeys=values["storeys"])
+    values = {k: v for k, v in values.items() if k != "storeys"}
+    text = isolated.call("pidamper.benchmarks.fatal_checks:bad_values", str(path), values)
     assert text is not None and expected in text and "not allowed" in text and "status 3 (error)" in text

@@ -27,9 +27,9 @@ STIFFNESSES = [9e7, 8e7, 7e7, 5e7]
 
 
 @pytest.fixture(scope="module")
-def fmus(fmu_path):
-    """The component FMUs `python -m build_fmu` built beside PendulumImpactDamper.fmu."""
-    return component_fmus(fmu_path.parent)
+def fmus(fmu_dir):
+    """The component FMUs of the default scenario (ShearBuilding3.fmu, the unit) of the session's build."""
+    return component_fmus(fmu_dir, Scenario().storeys)
 
 
 # ---- the building: exact for held inputs (scipy.linalg.expm) ---------------------------------
@@ -90,20 +90,22 @@ def test_building_physics_equals_expm_for_held_inputs_and_impulses(zeta):
         assert np.max(np.abs(np.array(a) - a_ref)) <= 1e-10 * max(1.0, np.max(np.abs(a_ref)))
 
 
-def test_building_fmu_equals_expm_and_declares_its_feedthrough(fmus):
-    assert validate_fmu(str(fmus[BUILDING])) == []
-    md = fmpy.read_model_description(str(fmus[BUILDING]))
+def test_building_fmu_equals_expm_and_declares_its_feedthrough(fmu_dir):
+    path = component_fmus(storeys=4)[BUILDING]  # ShearBuilding4.fmu, built on demand: exactly four floors
+    assert path.name == "ShearBuilding4.fmu" and validate_fmu(str(path)) == []
+    md = fmpy.read_model_description(str(path))
     deps = {u.variable.name: [d.name for d in u.dependencies] for u in md.outputs}
-    assert deps["floor[2].a"] == ["F[2]"] and deps["floor[2].x"] == [] and deps["floor[10].v"] == []
+    assert deps["floor[2].a"] == ["F[2]"] and deps["floor[2].x"] == [] and deps["floor[4].v"] == []
+    assert not any("[5]" in v.name for v in md.modelVariables) and "storeys" not in deps
     steps = held_inputs(4, 24, seed=2)
     ref = expm_run(MASSES, STIFFNESSES, 0.03, steps)
-    values = {"storeys": 4, "zeta_s": 0.03, **{f"floor[{k + 1}].m": m for k, m in enumerate(MASSES)},
-              **{f"storey[{k + 1}].k": s for k, s in enumerate(STIFFNESSES)}, "floor[5].m": -1.0}  # ignored
+    values = {"zeta_s": 0.03, **{f"floor[{k + 1}].m": m for k, m in enumerate(MASSES)},
+              **{f"storey[{k + 1}].k": s for k, s in enumerate(STIFFNESSES)}}
     messages = []
-    slave = component_instance(fmus[BUILDING], "b", values, messages)
+    slave = component_instance(path, "b", values, messages)
     try:
         fmu = slave.fmu
-        names = [f"floor[{k}].{q}" for q in "xva" for k in range(1, 6)]
+        names = [f"floor[{k}].{q}" for q in "xva" for k in range(1, 5)]
         vr_out = slave.vr(*names)
         t = 0.0
         for (h, F, ag, kicks), (x_ref, v_ref, a_ref) in zip(steps, ref):
@@ -119,7 +121,6 @@ def test_building_fmu_equals_expm_and_declares_its_feedthrough(fmus):
                 assert got[f"floor[{k + 1}].x"] == pytest.approx(x_ref[k], abs=1e-12 * np.max(np.abs(x_ref)))
                 assert got[f"floor[{k + 1}].v"] == pytest.approx(v_ref[k], abs=1e-12 * np.max(np.abs(v_ref)))
                 assert got[f"floor[{k + 1}].a"] == pytest.approx(a_ref[k], abs=1e-10 * np.max(np.abs(a_ref)))
-            assert got["floor[5].x"] == got["floor[5].v"] == got["floor[5].a"] == 0.0
         # feedthrough: a new F[2] shows in floor[2].a before any step, F[1] does not touch it
         before = fmu.getReal(slave.vr("floor[2].a", "floor[3].a"))
         fmu.setReal(slave.vr("F[2]"), [steps[-1][1][1] + 1e5])
@@ -333,8 +334,8 @@ REFUSED = [
     (UNIT, {}, {"a_s": float("nan")}, "a_s = nan is not allowed: the input must be finite"),
     (BUILDING, {"floor[2].m": -1.0}, {}, "floor[2].m = -1.0 is not allowed"),
     (BUILDING, {"storey[3].k": float("inf")}, {}, "storey[3].k = inf is not allowed"),
-    (BUILDING, {"storeys": 11}, {}, "storeys = 11 is not allowed"),
-    (BUILDING, {"storeys": 0}, {}, "storeys = 0 is not allowed"),
+    (BUILDING, {"storey[2].h": 0.0}, {}, "storey[2].h = 0.0 is not allowed"),
+    (BUILDING, {"storey[3].h": float("nan")}, {}, "storey[3].h = nan is not allowed"),
     (BUILDING, {"zeta_s": 1.0}, {}, "zeta_s = 1.0 is not allowed"),
     (BUILDING, {}, {"F[1]": float("inf")}, "F[1] = inf is not allowed: the input must be finite"),
     (BUILDING, {}, {"t_J[2]": float("nan")}, "t_J[2] = nan is not allowed"),
@@ -360,7 +361,7 @@ def test_ssp_and_osp_files_describe_the_coupled_system_and_run_in_libcosim(fmus,
                                              "OspSystemStructure-impulse.xml", "OspSystemStructure.xml"]
     ns = {"ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription"}
     with zipfile.ZipFile(tmp_path / "DamperOnBuilding-impulse.ssp") as z:
-        assert {"resources/ShearBuilding.fmu", "resources/PendulumImpactDamperUnit.fmu"} <= set(z.namelist())
+        assert {"resources/ShearBuilding3.fmu", "resources/PendulumImpactDamperUnit.fmu"} <= set(z.namelist())
         root = ET.fromstring(z.read("SystemStructure.ssd"))
     links = {(c.get("startElement"), c.get("startConnector"), c.get("endElement"), c.get("endConnector"))
              for c in root.iterfind(".//ssd:Connection", ns)}

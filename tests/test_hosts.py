@@ -100,9 +100,10 @@ def test_fmu_container_runtime(fmu_path, tmp_path):
     assert np.max(np.abs(container["theta"] - direct["theta"])) <= 1e-12 * np.max(np.abs(direct["theta"]))
 
 
-@pytest.mark.parametrize("model", ["PendulumImpactDamper", "PendulumImpactDamperUnit", "ShearBuilding"])
+@pytest.mark.parametrize("model", ["PendulumImpactDamper", "PendulumImpactDamperUnit"] + [
+    f"{family}{n}" for family in ("DampedShearBuilding", "ShearBuilding") for n in (1, 2, 3, 10)])
 def test_checkers_pass(fmu_path, model):
-    """Every FMU `python -m build_fmu` builds passes fmutool's and fmpy's checks."""
+    """Every FMU `python -m build_fmu --storeys 1 2 3 10` builds passes fmutool's and fmpy's checks."""
     tool = shutil.which("fmutool") or str(Path(sys.executable).with_name("fmutool"))
     assert Path(tool).exists(), "fmu-manipulation-toolbox (a test dependency) installs fmutool"
     path = fmu_path.with_name(f"{model}.fmu")
@@ -289,7 +290,8 @@ def test_without_a_c_compiler_the_fmu_keeps_pythonfmus_binary(fmu_path, tmp_path
     assert "binaries/linux64/PendulumImpactDamper_pythonfmu.so" not in names
 
 
-@pytest.mark.parametrize("model", ["PendulumImpactDamper", "PendulumImpactDamperUnit", "ShearBuilding"])
+@pytest.mark.parametrize("model", ["PendulumImpactDamper", "PendulumImpactDamperUnit", "DampedShearBuilding3",
+                                   "ShearBuilding3"])
 def test_every_fmu_in_a_native_host_under_an_awkward_path(fmu_path, tmp_path, model):
     """Each FMU as a system simulator sees it: unpacked under a path with spaces, an accent and
     parentheses, opened by a C host with RTLD_NOW | RTLD_LOCAL from a plain environment (the FMU

@@ -74,7 +74,8 @@ fmu.freeInstance()
 '''
 
 
-@pytest.mark.parametrize("model", ["PendulumImpactDamper", "PendulumImpactDamperUnit", "ShearBuilding"])
+@pytest.mark.parametrize("model", ["PendulumImpactDamper", "PendulumImpactDamperUnit", "DampedShearBuilding3",
+                                   "ShearBuilding3"])
 def test_the_layer_links_every_model(fmu_path, model):
     """Where the layer is built it links each model at fmi2Instantiate: the model writes its
     outputs into its buffer and the layer serves reads from there (a link that silently failed

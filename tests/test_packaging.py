@@ -31,7 +31,7 @@ def _run(cmd, **kwargs):
 def test_wheel_installs_and_runs_from_a_clean_environment(tmp_path):
     """Package discovery ships every subpackage and its data: from the installed wheel alone,
     `pidamper --help` runs, every subpackage imports (the shipped scenes among them) and
-    `python -m build_fmu` builds all three FMUs."""
+    `python -m build_fmu --storeys 2` builds the pendulum system, the unit and both 2-storey buildings."""
     _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(tmp_path / "wheel"), str(ROOT)])
     wheel, = (tmp_path / "wheel").glob("pidamper-*.whl")
     env_dir = tmp_path / "venv"
@@ -49,6 +49,6 @@ def test_wheel_installs_and_runs_from_a_clean_environment(tmp_path):
     scenes = _run([str(python), "-c", "from pidamper import scenes; print(' '.join(scenes.shipped()))"], cwd=work)
     assert "resonance" in scenes.split() and len(scenes.split()) >= 10
     out = tmp_path / "fmus"
-    _run([str(python), "-m", "build_fmu", "--out", str(out)], cwd=work)
-    assert sorted(p.name for p in out.glob("*.fmu")) == ["PendulumImpactDamper.fmu", "PendulumImpactDamperUnit.fmu",
-                                                          "ShearBuilding.fmu"]
+    _run([str(python), "-m", "build_fmu", "--out", str(out), "--storeys", "2"], cwd=work)
+    assert sorted(p.name for p in out.glob("*.fmu")) == ["DampedShearBuilding2.fmu", "PendulumImpactDamper.fmu",
+                                                          "PendulumImpactDamperUnit.fmu", "ShearBuilding2.fmu"]

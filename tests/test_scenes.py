@@ -51,12 +51,12 @@ def test_the_issue_s_scenes_are_shipped_and_installed():
 
 
 @pytest.fixture(scope="module")
-def ran(fmu_path, tmp_path_factory):
-    """Each shipped scene run by name through the command line, as a user would."""
+def ran(fmu_dir, tmp_path_factory):
+    """Each shipped scene run by name through the command line, as a user would (each finds the
+    FMU of its model in the session's build)."""
     out = tmp_path_factory.mktemp("scenes")
     for name in scene.shipped():
-        assert main(["run", name, "--fmu", str(fmu_path), "--out", str(out),
-                     "--csv-out", str(out / f"{name}.csv")]) == 0
+        assert main(["run", name, "--out", str(out), "--csv-out", str(out / f"{name}.csv")]) == 0
     return out
 
 

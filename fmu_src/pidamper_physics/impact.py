@@ -1,4 +1,6 @@
-"""Newton impact law between the primary (mass M, velocity v) and the particle (m = mu M, u).
+"""The impact law of every particle model (Damper's levels, DamperUnit): Newton's, restitution e.
+
+Between the primary (mass M, velocity v) and the particle (m = mu M, u):
 
 Momentum M v + m u is conserved and u+ - v+ = -e (u - v):
 
@@ -24,3 +26,23 @@ def impact_loss(M, mu, e, v, u):
     """Energy [J] lost in an impact with pre-impact velocities v (primary), u (particle)."""
     w = u - v
     return 0.5 * M * mu / (1.0 + mu) * (1.0 - e * e) * w * w
+
+
+
+def relative(w, m, M_s, reduced, e, impulse_aware):
+    """The same law in the unit's form (unit.py: particle m on a structure of mass M_s, reduced mass
+    m M_s / (m + M_s), at approach velocity w = r' in the attachment's frame): (impulse J on the
+    structure [N s], r' after [m/s], energy lost [J]).  Impulse-aware: the two-body law, r' -> -e w.
+    Mean force: the attachment's velocity jump reaches the unit only through its next input, so
+    r' -> w (m - e M_s) / (m + M_s); where that still approaches the stop (m > e M_s) the caller
+    makes the impact plastic in the unit's frame (plastic_in_unit_frame)."""
+    J = reduced * (1.0 + e) * w
+    loss = 0.5 * reduced * (1.0 - e * e) * w * w
+    if impulse_aware:
+        return J, -e * w, loss
+    return J, w * (m - e * M_s) / (m + M_s), loss
+
+
+def plastic_in_unit_frame(w, m, M_s):
+    """(J, r' after, loss) of the mean-force unit's plastic impact: J = m w, r' -> 0 (see relative)."""
+    return m * w, 0.0, 0.5 * m * w * w * (M_s - m) / M_s

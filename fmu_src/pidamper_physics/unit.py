@@ -54,6 +54,7 @@ Plain Python (math): this ships inside the FMU.
 """
 import math
 
+from .impact import plastic_in_unit_frame, relative
 from .oscillator import DampedOscillator
 from .params import SCALE_RANGE, ZETA_GAP, ParameterError, check_finite, check_restitution
 from .segments import GAP_RESOLUTION, TOLERANCE, noise_size
@@ -285,17 +286,9 @@ class DamperUnit(EventDriven):
     def _impact(self, side):
         """Newton's two-body law at approach velocity w = r' (see the module doc)."""
         w = self.rd
-        m, M_s, e = self.m, self.M_s, self.e
-        J = self.mu * (1.0 + e) * w
-        if self.impulse_aware:
-            after = -e * w
-            loss = 0.5 * self.mu * (1.0 - e * e) * w * w
-        else:
-            after = w * (m - e * M_s) / (m + M_s)
-            loss = 0.5 * self.mu * (1.0 - e * e) * w * w
-            if after * side > 0.0:  # m > e M_s: still approaching in the unit's frame: plastic there
-                J, after = m * w, 0.0
-                loss = 0.5 * m * w * w * (M_s - m) / M_s
+        J, after, loss = relative(w, self.m, self.M_s, self.mu, self.e, self.impulse_aware)
+        if after * side > 0.0:  # m > e M_s: still approaching in the unit's frame: plastic there
+            J, after, loss = plastic_in_unit_frame(w, self.m, self.M_s)
         self.rd = after
         self.impacts += 1
         self._book(J, loss)
@@ -309,11 +302,9 @@ class DamperUnit(EventDriven):
         if w == 0.0:
             return
         if self.impulse_aware:
-            J = self.mu * w
-            loss = 0.5 * self.mu * w * w
+            J, _, loss = relative(w, self.m, self.M_s, self.mu, 0.0, True)
         else:
-            J = self.m * w
-            loss = 0.5 * self.m * w * w * (self.M_s - self.m) / self.M_s
+            J, _, loss = plastic_in_unit_frame(w, self.m, self.M_s)
         self.rd = 0.0
         self._book(J, loss)
         if counted:

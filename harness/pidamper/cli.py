@@ -21,7 +21,7 @@ OWN_PARSER = {
     "study": ("pidamper.studies.study:main", "parametric study over a grid (pidamper study --help)"),
     "paper": ("pidamper.studies.paper:main", "regenerate the paper's figures for both readings (pidamper paper --help)"),
     "cosim": ("pidamper.cosim.command:cli_main",
-              "the damper unit FMU on the ShearBuilding FMU, co-simulated (pidamper cosim --help)"),
+              "the damper unit FMU on a ShearBuilding<N> FMU, co-simulated (pidamper cosim --help)"),
     "assess": ("pidamper.assessment.assess:cli_main",
                "performance-based assessment: suite, stripes, fragility, risk (pidamper assess --help)"),
 }

@@ -8,10 +8,11 @@ The study file (TOML; every field is checked, a refusal names the field, its val
 allowed):
 
     [study]          name, description
-    [building]       FMU parameters of the building (storeys 1..10, floor_m, storey_k: a number or a
-                     list, zeta_s, fidelity "damped"...; or storeys = 0, the pendulum primary, whose
-                     displacement x is the one storey's drift) and storey_height [m] (a number or a
-                     list; default STOREY_HEIGHT)
+    [building]       FMU parameters of the building (storeys 1..10: DampedShearBuilding<N>.fmu runs
+                     it; floor_m, storey_k: a number or a list, zeta_s, fidelity "damped"...; or
+                     storeys = 0, the pendulum primary of PendulumImpactDamper.fmu, whose displacement
+                     x is the one storey's drift) and storey_height [m] (a number or a list; default
+                     STOREY_HEIGHT: an alias of the FMU's storey[k].h)
     [configurations.NAME]   FMU parameters of each configuration on top of the building (mu = 0: no
                      damper); the first one is the reference of the risk ratio
     [suite]          folder = "records/" (every .AT2 and .csv) or generator = "clough-penzien" ... (see
@@ -25,9 +26,11 @@ allowed):
                      seed (default 0)
 
 Each run is one record scaled to one level, in one configuration, through the FMU with fmpy
-(`--engine core`: the physics core directly). Demands per run, over the communication points: peak
-inter-storey drift ratio (drift / storey height), peak floor absolute acceleration, peak particle
-stroke |x - y| at the damper floor, impact count. Runs go to a process pool or Dask as in
+(`--engine core`: the physics core directly). Demands per run: peak inter-storey drift ratio
+(drift / storey height) and peak floor absolute acceleration, a building's exact running maxima
+(located between the communication points inside the FMU; the pendulum primary's over the
+communication points), peak particle stroke |x - y| at the damper floor (over the communication
+points), impact count. Runs go to a process pool or Dask as in
 `pidamper study`; each finished run is appended to OUT/runs.csv at once, so an interrupted study
 resumes; OUT/runs.parquet is the tidy table at the end. OUT/README.md has the IDA and fragility
 figures, the fragility and risk tables, the study file and the command.
@@ -126,9 +129,14 @@ class Study:
 
 
 def start_values(params):
-    """FMU start values of study parameters (scene.fmu_values; fidelity by name; storey_height is the
-    study's, not the FMU's); every run starts from rest."""
+    """FMU start values of study parameters (scene.fmu_values; fidelity by name; storey_height goes
+    to the building FMU's storey[k].h); every run starts from rest."""
+    height = params.get("storey_height")
     values = fmu_values({k: v for k, v in params.items() if k != "storey_height"})
+    storeys = values.get("storeys", 0)
+    if height is not None and storeys:
+        heights = height if isinstance(height, list) else [height] * storeys
+        values.update({f"storey[{k}].h": float(h) for k, h in enumerate(heights, start=1)})
     values.setdefault("theta_dot_0", 0.0)  # from rest (the FMU's default starts a free decay)
     if isinstance(values.get("fidelity"), str):
         values["fidelity"] = FIDELITY.index(values["fidelity"])
@@ -259,35 +267,37 @@ def run_task(task, engine="fmu", path=None):
     n = int(round(times[-1] / h))
     heights = np.asarray(task["heights"])
     storeys = task["values"].get("storeys", 0)  # 0: the pendulum primary, its x the one "drift"
+    floors = range(1, storeys + 1)
     cpu = time.process_time()
     if engine == "fmu":
         data = run(task["values"], signal, stop_time=n * h, output_interval=h, fmu=path).data
-        if storeys:
-            drifts = np.column_stack([data[f"storey[{k}].drift"] for k in range(1, storeys + 1)])
-            accels = np.column_stack([data[f"floor[{k}].a"] for k in range(1, storeys + 1)])
-        else:
-            drifts, accels = data["x"][:, None], (data["a"] + data["a_g"])[:, None]
+        if storeys:  # the building FMU's exact running maxima
+            ratio = np.array([data[f"storey[{k}].drift_ratio_max"][-1] for k in floors])
+            accel = max(data[f"floor[{k}].a_abs_max"][-1] for k in floors)
+        else:  # the pendulum primary: sampled at the communication points
+            ratio = np.abs(data["x"]).max(keepdims=True) / heights
+            accel = np.abs(data["a"] + data["a_g"]).max()
         stroke, impacts = float(np.abs(data["z"]).max()), int(data["impacts"][-1])
     else:
-        drifts, accels, strokes = [], [], []
+        accels, strokes, drifts = [], [], []
         with CoreStepper(task["values"], forcing=signal) as stepper:
             core = stepper.core
             for k in range(1, n + 1):
                 stepper.advance(k * h)
                 ground = float(signal.value(stepper.core.t - h))
-                if storeys:
-                    _, acc, drift, _ = core.building_outputs(0.0, ground)
-                else:
-                    acc, drift = [core.acceleration(0.0, ground) + ground], [core.x]
-                drifts.append(drift)
-                accels.append(acc)
+                if not storeys:
+                    accels.append(abs(core.acceleration(0.0, ground) + ground))
+                    drifts.append(abs(core.x))
                 strokes.append(abs(core.x - core.y))
             stroke, impacts = max(strokes), core.impacts
-        drifts, accels = np.array(drifts), np.array(accels)
-    ratio = np.abs(drifts).max(axis=0) / heights
+            if storeys:
+                peaks = core.model.peaks
+                ratio, accel = np.array(peaks.drift), max(peaks.acceleration)
+            else:
+                ratio, accel = np.array([max(drifts)]) / heights, max(accels)
     row = {k: v for k, v in task.items() if k not in ("accel", "values", "heights", "step", "dt")}
     row.update(drift_ratio=float(ratio.max()), drift_storey=int(ratio.argmax()) + 1,
-               floor_accel=float(np.abs(accels).max()), stroke=stroke, impacts=impacts,
+               floor_accel=float(accel), stroke=stroke, impacts=impacts,
                cpu_s=time.process_time() - cpu)
     return row
 
@@ -299,7 +309,7 @@ def run_study(study, out, engine="fmu", workers=None, dask=False, scheduler=None
     todo_all = tasks(study)
     columns = ["key", "record", "record_index", "level", "im_record", "factor", "configuration"] + list(DEMANDS)
     table = Table(Path(out) / "runs.csv", columns)
-    path = str(find_fmu(fmu)) if engine == "fmu" else None
+    path = str(find_fmu(fmu, storeys=study.storeys)) if engine == "fmu" else None
     run_table(run_task, todo_all, [t["key"] for t in todo_all], table, engine, path, workers, dask, scheduler,
               progress, "assess")
     return [_typed(table.done[t["key"]]) for t in todo_all]

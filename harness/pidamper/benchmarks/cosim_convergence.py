@@ -131,7 +131,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    fmus = cosim.component_fmus(args.fmu_dir)
+    fmus = cosim.component_fmus(args.fmu_dir, cosim.Scenario().storeys)
     hs = [0.01 / 2 ** p for p in range(args.finest + 1)]
     scn = cosim.Scenario()
     rows, source, ref_wall, cross = measure(scn, MASTERS, hs, fmus, "e=0.5")

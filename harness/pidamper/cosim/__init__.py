@@ -1,4 +1,4 @@
-"""The damper unit on a shear building, co-simulated: PendulumImpactDamperUnit.fmu + ShearBuilding.fmu.
+"""The damper unit on a shear building, co-simulated: PendulumImpactDamperUnit.fmu + ShearBuilding<N>.fmu.
 
 The coupled system (names as in the FMUs): the unit hangs from floor j of the building;
 

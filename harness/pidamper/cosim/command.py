@@ -17,8 +17,8 @@ def add_arguments(parser):
     parser.add_argument("--master", action="append", choices=tuple(LABELS),
                         help="which masters to run (repeatable; default: mean, impulse, impulse-extrapolated: fmpy "
                              "Gauss-Seidel; libcosim, libcosim-impulse: libcosim's Jacobi)")
-    parser.add_argument("--fmu-dir", help="folder with ShearBuilding.fmu and PendulumImpactDamperUnit.fmu "
-                                          "(default: dist/, built when stale)")
+    parser.add_argument("--fmu-dir", help="folder with ShearBuilding<N>.fmu (N: the scenario's storeys) and "
+                                          "PendulumImpactDamperUnit.fmu (default: dist/, built when missing or stale)")
     parser.add_argument("--export", metavar="DIR", help="also write the SSP files and the OSP system structures "
                                                         "(and a copy of the FMUs) into DIR")
     parser.add_argument("--no-reference", action="store_true", help="do not compute the monolithic reference")
@@ -33,7 +33,7 @@ def cli_main(argv=None):
 
     parser = argparse.ArgumentParser(
         prog="pidamper cosim",
-        description="Co-simulate PendulumImpactDamperUnit.fmu on ShearBuilding.fmu (Gauss-Seidel with fmpy, or "
+        description="Co-simulate PendulumImpactDamperUnit.fmu on ShearBuilding<N>.fmu (Gauss-Seidel with fmpy, or "
                     "libcosim's Jacobi) and compare with the exact monolithic model; --export writes the SSP files "
                     "and OSP system structures.")
     add_arguments(parser)
@@ -47,7 +47,7 @@ def cli_main(argv=None):
 
 def main(args):
     scn = scenario_from(args.param, args.stop_time)
-    fmus = component_fmus(args.fmu_dir)
+    fmus = component_fmus(args.fmu_dir, scn.storeys)
     if args.export:
         for path in export_system(args.export, scn, fmus):
             print(f"wrote {path}")

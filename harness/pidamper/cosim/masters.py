@@ -43,7 +43,7 @@ def gauss_seidel(scn, h, mode="mean", fmus=None):
     """The Gauss-Seidel master on the two FMUs with fmpy's FMU2Slave (see the module doc);
     mode: one of MODES."""
     impulse_aware, extrapolate = MODES[mode]
-    fmus = fmus or component_fmus()
+    fmus = fmus or component_fmus(storeys=scn.storeys)
     messages = []
     n = scn.steps(h)
     j = scn.floor
@@ -130,7 +130,7 @@ def libcosim_jacobi(scn, h, impulse_aware=False, fmus=None):
     from libcosimpy.CosimManipulator import CosimManipulator
     from libcosimpy.CosimObserver import CosimObserver
 
-    fmus = fmus or component_fmus()
+    fmus = fmus or component_fmus(storeys=scn.storeys)
     log_output_level(CosimLogLevel.ERROR)
     n = scn.steps(h)
     step_ns = int(round(h * 1e9))

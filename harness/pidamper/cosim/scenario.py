@@ -5,7 +5,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 UNIT = "PendulumImpactDamperUnit"
-BUILDING = "ShearBuilding"
+BUILDING = "ShearBuilding"  # the building's role; its FMU is ShearBuilding<storeys>.fmu (Scenario.building_model)
 SYSTEM = "DamperOnBuilding"
 
 @dataclass(frozen=True)
@@ -34,6 +34,11 @@ class Scenario:
     pulse: float = 2.0
     pulse_time: float = 0.25
     stop_time: float = 5.0
+
+    @property
+    def building_model(self):
+        """The building's FMU model: ShearBuilding<storeys>."""
+        return f"{BUILDING}{self.storeys}"
 
     @property
     def building(self):
@@ -70,7 +75,7 @@ class Scenario:
         return self.g / self.w1 ** 2
 
     def building_values(self):
-        values = {"storeys": self.storeys, "zeta_s": self.zeta_s}
+        values = {"zeta_s": self.zeta_s}
         for k in range(self.storeys):
             values[f"floor[{k + 1}].m"] = self.floor_m[k]
             values[f"storey[{k + 1}].k"] = self.storey_k[k]

@@ -27,7 +27,7 @@ def write_osp(path, scn, impulse_aware=False, h=0.001, fmu_dir="."):
             rows.append(f'        <InitialValue variable={quoteattr(name)}><{kind} value="{text}"/></InitialValue>')
         return "\n".join(rows)
 
-    integers = {"storeys": "Integer", "impulse_aware": "Integer"}
+    integers = {"impulse_aware": "Integer"}
     connections = "\n".join(
         f'    <VariableConnection><Variable simulator="{a}" name={quoteattr(va)}/>'
         f'<Variable simulator="{b}" name={quoteattr(vb)}/></VariableConnection>'
@@ -40,7 +40,7 @@ def write_osp(path, scn, impulse_aware=False, h=0.001, fmu_dir="."):
   <BaseStepSize>{h!r}</BaseStepSize>
   <Algorithm>fixedStep</Algorithm>
   <Simulators>
-    <Simulator name="building" source="{fmu_dir}/{BUILDING}.fmu">
+    <Simulator name="building" source="{fmu_dir}/{scn.building_model}.fmu">
       <InitialValues>
 {initial(scn.building_values(), integers)}
       </InitialValues>
@@ -69,7 +69,7 @@ def ssd_text(scn, impulse_aware=False, h=0.001):
     def parameters(values):
         rows = []
         for name, value in values.items():
-            typed = (f'<ssv:Integer value="{int(value)}"/>' if name in ("storeys", "impulse_aware")
+            typed = (f'<ssv:Integer value="{int(value)}"/>' if name == "impulse_aware"
                      else f'<ssv:Real value="{float(value)!r}"/>')
             rows.append(f'                  <ssv:Parameter name={quoteattr(name)}>{typed}</ssv:Parameter>')
         return "\n".join(rows)
@@ -108,7 +108,7 @@ def ssd_text(scn, impulse_aware=False, h=0.001):
     description="pendulum impact damper unit on floor {j} of a shear building, {mode} coupling">
   <ssd:System name="{SYSTEM}">
     <ssd:Elements>
-      <ssd:Component name="building" type="application/x-fmu-sharedlibrary" source="resources/{BUILDING}.fmu">
+      <ssd:Component name="building" type="application/x-fmu-sharedlibrary" source="resources/{scn.building_model}.fmu">
         <ssd:Connectors>
 {connectors(b_rows)}
         </ssd:Connectors>
@@ -140,8 +140,8 @@ def write_ssp(path, scn, fmus, impulse_aware=False, h=0.001):
     """An .ssp archive: SystemStructure.ssd and the two FMUs under resources/."""
     with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
         z.writestr("SystemStructure.ssd", ssd_text(scn, impulse_aware, h))
-        for name in (BUILDING, UNIT):
-            z.write(fmus[name], f"resources/{name}.fmu")
+        for role, name in ((BUILDING, scn.building_model), (UNIT, UNIT)):
+            z.write(fmus[role], f"resources/{name}.fmu")
     return Path(path)
 
 
@@ -152,8 +152,8 @@ def export_system(out_dir, scn=None, fmus=None, h=0.001):
     scn = scn or Scenario()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    fmus = fmus or component_fmus()
-    for name, path in fmus.items():
+    fmus = fmus or component_fmus(storeys=scn.storeys)
+    for name, path in ((scn.building_model, fmus[BUILDING]), (UNIT, fmus[UNIT])):
         if Path(path).resolve() != (out / f"{name}.fmu").resolve():
             shutil.copy2(path, out / f"{name}.fmu")
     return [write_ssp(out / f"{SYSTEM}.ssp", scn, fmus, False, h),

@@ -16,6 +16,7 @@ import numpy as np
 
 from . import rerun_log
 from ..running.fmu import find_fmu
+from ..running.variants import storeys_of
 from ..forcing import none
 from .mcap_log import McapLog, read_floors, read_run
 from .schema import IMPACT_DTYPE, STATE_DTYPE, STATE_FIELDS, floors_dtype, geometry, run_info
@@ -186,10 +187,10 @@ def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.
     choose the MCAP topics and the Rerun views (default: all); `scene` (name, source, description)
     is kept in the run's info."""
     forcing = forcing or none()
-    path = find_fmu(fmu)
+    start_values = {**(parameters or {}), **forcing.start_values}
+    path = find_fmu(fmu, storeys=storeys_of(start_values))  # DampedShearBuilding<N>.fmu for storeys = N
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    start_values = {**(parameters or {}), **forcing.start_values}
     info = run_info(path, start_values, forcing, start_time, stop_time, output_interval, None)
     info["geometry"] = geometry(info["parameters"])
     info["log_block"] = block  # the replay logs in the same blocks

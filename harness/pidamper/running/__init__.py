@@ -1,5 +1,7 @@
-"""Running the FMU: locate or build it (`fmu`), one FMU wrapper (`instance`: unpack, instantiate,
+"""Running the FMUs: locate or build the one of a model (`fmu`), fit start values to it (`variants`),
+one FMU wrapper (`instance`: unpack, instantiate,
 initialise, set/get by name, step, free), whole runs with fmpy against a forcing signal
 (`simulation`), step-by-step drivers with save and restore over the FMU or the physics core
 (`stepper`), and calls in a child process for checks that may crash (`isolated`).  It may import
-the physics core, build_fmu and the inputs (pidamper.forcing); nothing else of the harness."""
+the physics core, build_fmu, the FMU's variable tables (pidamper_fmu.particle_tables) and the inputs
+(pidamper.forcing); nothing else of the harness."""

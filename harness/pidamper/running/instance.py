@@ -11,6 +11,8 @@ from fmpy.fmi2 import (FMU2Slave, calloc, fmi2CallbackAllocateMemoryTYPE, fmi2Ca
                        fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, fmi2Fatal, free)
 from fmpy.logging import addLoggerProxy
 
+from .variants import for_model
+
 
 def fmi2_callbacks(logger):
     """FMI 2 callbacks as fmpy.simulate_fmu builds them (its C proxy formats the model's text),
@@ -28,11 +30,12 @@ class FmuInstance:
     """An initialised instance of the FMU at `fmu_path` (start values set in initialization mode);
     `fmu` is fmpy's FMU2Slave, `vars` the model variables by name, `t` [s] the time after the last
     do_step.  logger(status, text) hears the model's messages (debug logging on), else they are
-    dropped.  A refused call raises fmpy's FMICallException; a failed initialization frees the
-    instance before it raises."""
+    dropped.  Start values are fitted to the model (variants.for_model).  A refused call raises
+    fmpy's FMICallException; a failed initialization frees the instance before it raises."""
 
     def __init__(self, fmu_path, start_values=None, start_time=0.0, instance_name="pidamper", logger=None):
         md = fmpy.read_model_description(str(fmu_path))
+        start_values = for_model(md.modelName, start_values or {})
         self.dir = fmpy.extract(str(fmu_path))
         self.vars = {v.name: v for v in md.modelVariables}
         self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self.dir,

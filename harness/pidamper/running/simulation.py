@@ -5,6 +5,9 @@ This is the public API a user scripting fmpy would use:
     from pidamper import find_fmu, forcing, run
     result = run({"mu": 0.02, "FR": 5.0}, forcing.harmonic(0.0981, 3.132), stop_time=40.0, output_interval=0.01)
     result.data["theta"]        # structured array, one row per communication point
+
+`parameters` may hold `storeys`: N >= 1 runs DampedShearBuilding<N>.fmu (variants.py fits the
+values to the model that runs them).
 """
 import math
 import re
@@ -18,6 +21,7 @@ from fmpy.fmi1 import FMICallException
 from pidamper_physics import Params
 
 from .fmu import find_fmu
+from .variants import for_model, storeys_of
 from ..forcing import Forcing, none
 
 OUTPUTS = ("theta", "theta_dot", "alpha", "alpha_dot", "x", "y", "z", "a", "impacts", "contact",
@@ -88,10 +92,17 @@ def floor_columns(storeys):
                  for k in range(1, storeys + 1)) + ("base_shear",)
 
 
+def peak_columns(storeys):
+    """A building's drift ratios and running maxima (exact, located inside the FMU's steps)."""
+    return tuple(f"{kind}[{k}].{field}" for kind, field in (
+        ("storey", "drift_ratio"), ("storey", "drift_ratio_max"), ("floor", "v_abs_max"), ("floor", "a_abs_max"))
+        for k in range(1, storeys + 1))
+
+
 def building_outputs(parameters):
     """The building's outputs a run records beside OUTPUTS (none with storeys = 0)."""
-    n = int(parameters.get("storeys", 0))
-    return floor_columns(n) if n else ()
+    n = storeys_of(parameters)
+    return floor_columns(n) + peak_columns(n) if n else ()
 
 
 def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu=None, start_time=0.0,
@@ -104,7 +115,8 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
     start_values = dict(parameters or {})
     start_values.update(forcing.start_values)
     extra_outputs = tuple(extra_outputs) + tuple(o for o in building_outputs(start_values) if o not in extra_outputs)
-    path = str(find_fmu(fmu))
+    path = str(find_fmu(fmu, storeys=storeys_of(start_values)))
+    model_values = for_model(fmpy.read_model_description(path).modelName, start_values)
     n = int(round((stop_time - start_time) / output_interval))
     grid = start_time + output_interval * np.arange(n + 1)
     signal = forcing.input_array(grid)
@@ -126,7 +138,7 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
     cpu = time.process_time()
     try:
         data = fmpy.simulate_fmu(path, start_time=start_time, stop_time=stop_time, output_interval=output_interval,
-                                 start_values=start_values, input=signal, output=list(OUTPUTS) + list(extra_outputs),
+                                 start_values=model_values, input=signal, output=list(OUTPUTS) + list(extra_outputs),
                                  step_finished=watch, debug_logging=True, logger=messages)
     except FMICallException as err:
         partial = None

@@ -51,7 +51,7 @@ class CoreStepper:
     def __init__(self, start_values=None, forcing=None, start_time=0.0):
         values = dict(start_values or {})
         initial = [float(values.pop(k, default)) for k, default in INITIAL_DEFAULTS.items()]
-        known = [k for k in values if k in Params.NAMES or re.fullmatch(r"(floor\[\d+\]\.m|storey\[\d+\]\.k)", k)]
+        known = [k for k in values if k in Params.NAMES or re.fullmatch(r"(floor\[\d+\]\.m|storey\[\d+\]\.[kh])", k)]
         params = {k: values.pop(k) for k in known}
         if values:
             raise KeyError(f"unknown parameters {sorted(values)!r}")
@@ -84,13 +84,16 @@ class CoreStepper:
 
     def get(self, name):
         c = self.core
-        found = re.fullmatch(r"(floor|storey)\[(\d+)\]\.(x|a|drift)", name)
+        found = re.fullmatch(r"(floor|storey)\[(\d+)\]\.(x|a|drift|drift_ratio|drift_ratio_max|v_abs_max|a_abs_max)",
+                             name)
         if found or name == "base_shear":
             ground = self._input("a_g")
             xs, acc, drifts, shear = c.building_outputs(self._input("F"), ground)
             if not found:
                 return shear
-            return {"x": xs, "a": acc, "drift": drifts}[found.group(3)][int(found.group(2)) - 1]
+            ratios, drift_max, v_max, a_max = c.model.peak_outputs(c.x)
+            return {"x": xs, "a": acc, "drift": drifts, "drift_ratio": ratios, "drift_ratio_max": drift_max,
+                    "v_abs_max": v_max, "a_abs_max": a_max}[found.group(3)][int(found.group(2)) - 1]
         return {"impacts": c.impacts, "energy": c.energy, "energy_dissipated": c.dissipated,
                 "energy_viscous": c.viscous, "work_in": c.work_in, "theta": c.angles()[0]}[name]
 
