@@ -212,8 +212,11 @@ class Motion:
             per_mode.append(row)
         if vectors is None:
             vectors = m.V if rows is None else [m.V[i] for i in rows]
-        return [[sum(m.weight[k] * abs(vrow[k]) * per_mode[k][j] for k in range(len(m.lam))) for j in range(orders)]
-                for vrow in vectors]
+        out = []
+        for vrow in vectors:
+            scaled = [w * abs(v) for w, v in zip(m.weight, vrow)]  # (weight |V|) first, as the sum always did
+            out.append([sum(c * pm[j] for c, pm in zip(scaled, per_mode)) for j in range(orders)])
+        return out
 
     def rest(self, rows=None, vectors=None):
         """Per component of z: the constant part (the equilibrium under the held load b); only

@@ -56,6 +56,7 @@ from ..forcing import ground_motion, spectra
 from ..errors import FieldError
 from ..forcing import Forcing
 from ..machine import cpu_model
+from ..measures import building_peaks
 from ..scenes.scene import FIDELITY, fmu_values
 from ..studies.runner import Table, add_runner_arguments, run_table
 
@@ -267,13 +268,12 @@ def run_task(task, engine="fmu", path=None):
     n = int(round(times[-1] / h))
     heights = np.asarray(task["heights"])
     storeys = task["values"].get("storeys", 0)  # 0: the pendulum primary, its x the one "drift"
-    floors = range(1, storeys + 1)
     cpu = time.process_time()
     if engine == "fmu":
         data = run(task["values"], signal, stop_time=n * h, output_interval=h, fmu=path).data
         if storeys:  # the building FMU's exact running maxima
-            ratio = np.array([data[f"storey[{k}].drift_ratio_max"][-1] for k in floors])
-            accel = max(data[f"floor[{k}].a_abs_max"][-1] for k in floors)
+            peaks = building_peaks(data, storeys)
+            ratio, accel = peaks["drift_ratio"], peaks["a_abs"].max()
         else:  # the pendulum primary: sampled at the communication points
             ratio = np.abs(data["x"]).max(keepdims=True) / heights
             accel = np.abs(data["a"] + data["a_g"]).max()

@@ -35,9 +35,10 @@ class FmuInstance:
 
     def __init__(self, fmu_path, start_values=None, start_time=0.0, instance_name="pidamper", logger=None):
         md = fmpy.read_model_description(str(fmu_path))
-        start_values = for_model(md.modelName, start_values or {})
-        self.dir = fmpy.extract(str(fmu_path))
         self.vars = {v.name: v for v in md.modelVariables}
+        if "storeys" not in self.vars:  # (a build before the split into one FMU per model takes them as given)
+            start_values = for_model(md.modelName, start_values or {})
+        self.dir = fmpy.extract(str(fmu_path))
         self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self.dir,
                              modelIdentifier=md.coSimulation.modelIdentifier, instanceName=instance_name)
         self.t = float(start_time)
