@@ -296,7 +296,8 @@ def main(argv=None):
                 except Exception as err:  # a format change: say so in the table
                     crossed = f"{type(err).__name__}: {err}"
                 slave.close()
-                if isinstance(crossed, str) and "is not allowed" in crossed:  # refused by name: a new state format
+                if isinstance(crossed, str) and "FMICallException" in crossed and "status 3" in crossed:  # fmi2Error:
+                    # the new model refused the old state (its keys name variables the model no longer has)
                     lines.append(f"| FMU: {name}, old build's state into the new build | | | | refused (the state "
                                  "format changed with the model's variables) |")
                     print(lines[-1], flush=True)

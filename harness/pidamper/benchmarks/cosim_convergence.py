@@ -115,7 +115,7 @@ def plot(path, rows, plastic_rows, hs, ref_wall):
     a3.set_title("error vs step, e = 0.03 (m > e M_s: the plastic rule)", fontsize=9)
     a1.legend(fontsize=7)
     a3.legend(fontsize=7)
-    fig.suptitle("PendulumImpactDamperUnit.fmu on ShearBuilding.fmu: co-simulation against the exact monolithic model",
+    fig.suptitle("PendulumImpactDamperUnit.fmu on ShearBuilding3.fmu: co-simulation against the exact monolithic model",
                  fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -159,7 +159,7 @@ def main(argv=None):
 
 README = """# Co-simulation of the damper unit on a shear building: convergence and cost
 
-`PendulumImpactDamperUnit.fmu` (the particle and its stops alone) on floor 3 of `ShearBuilding.fmu`,
+`PendulumImpactDamperUnit.fmu` (the particle and its stops alone) on floor 3 of `ShearBuilding3.fmu`,
 coupled `floor[3].a -> a_s`, `F_s -> F[3]` (impulse-aware also `J_s -> J[3]`, `t_J -> t_J[3]`), against
 the exact monolithic model. Regenerate: `{command}` (about two minutes; builds the FMUs into `dist/`
 when they are stale). Machine: {machine}.
@@ -219,7 +219,7 @@ Data: `cosim-convergence.csv` (case, master, h, error, wall, impacts).
 ## The two FMUs and the system files
 
 ```sh
-python -m build_fmu                     # dist/: PendulumImpactDamper, PendulumImpactDamperUnit, ShearBuilding .fmu
+python -m build_fmu --storeys 3         # dist/: PendulumImpactDamper, PendulumImpactDamperUnit, DampedShearBuilding3, ShearBuilding3 .fmu
 pidamper cosim --export dist            # also dist/DamperOnBuilding.ssp, DamperOnBuilding-impulse.ssp,
                                         # OspSystemStructure.xml, OspSystemStructure-impulse.xml; runs the GS masters
 pidamper cosim --step 0.001 --master libcosim --master impulse-extrapolated -p e=0.8
@@ -230,10 +230,13 @@ pidamper cosim --step 0.001 --master libcosim --master impulse-extrapolated -p e
   them, `F_s` is the smooth force and the unit applies the full two-body law in its frame), `r_0`,
   `r_dot_0`; input `a_s`; outputs `F_s`, `J_s`, `t_J`, `r`, `r_dot`, `impacts`, `contact`,
   `energy_dissipated` (no direct feedthrough). Physics: `fmu_src/pidamper_physics/unit.py`.
-- `ShearBuilding.fmu`: parameters `storeys` (1..10), `floor[k].m`, `storey[k].k`, `zeta_s` (defaults:
-  3 storeys, 1e5 kg, 8e7 N/m, T1 = 0.499 s, no damping); inputs `a_g`, `F[k]`, `J[k]`, `t_J[k]` (a `t_J`
-  outside the coming step is clamped into it: Jacobi hosts pass it a step late); outputs `floor[k].x`,
-  `floor[k].v`, `floor[k].a` (absolute; direct feedthrough from `F[k]` only). Exact modal closed form:
+- `ShearBuilding<N>.fmu` (N = 1..10 storeys; it replaces `ShearBuilding.fmu` and its `storeys`
+  parameter): parameters `floor[k].m`, `storey[k].k`, `storey[k].h`, `zeta_s` (defaults: 1e5 kg,
+  8e7 N/m, 3 m, no damping; three storeys: T1 = 0.499 s); inputs `a_g`, `F[k]`, `J[k]`, `t_J[k]` (a
+  `t_J` outside the coming step is clamped into it: Jacobi hosts pass it a step late); outputs
+  `floor[k].x`, `floor[k].v`, `floor[k].a` (absolute; direct feedthrough from `F[k]` only),
+  `storey[k].drift_ratio` and the exact running maxima `storey[k].drift_ratio_max`,
+  `floor[k].v_abs_max`, `floor[k].a_abs_max`. Exact modal closed form:
   `fmu_src/pidamper_physics/shear_motion.py`.
 - Both carry the native layer (`fmi2_entry.c`, compiled per model): refusals answer `fmi2Error` with
   a message naming the value, outputs are read without entering Python.

@@ -25,6 +25,7 @@ import time
 from pidamper_physics import Params
 
 from ..running.fmu import find_fmu
+from ..running.variants import storeys_of
 from ..measures import DAMPING_AVERAGES, damping_ratio, max_abs_theta
 from ..running.simulation import resonance
 from ..running.stepper import CoreStepper, FmuStepper
@@ -63,8 +64,11 @@ def _start_values(point):
 
 
 def run_point(point, engine="fmu", fmu=None):
-    """Measures of one point (see the module doc); `fmu` is the FMU path for engine 'fmu'."""
+    """Measures of one point (see the module doc); `fmu` is the FMU path for engine 'fmu' (None: the
+    FMU of the point's model, find_fmu(storeys=...))."""
     values, w2 = _start_values(point)
+    if engine == "fmu" and fmu is None:
+        fmu = find_fmu(storeys=storeys_of(values))
     period = 2 * math.pi / w2
     make = (lambda v, name="a": FmuStepper(fmu, v, instance_name=name)) if engine == "fmu" else \
         (lambda v, name="a": CoreStepper(v))
@@ -93,7 +97,10 @@ def run_study(grid, fixed=None, out="study.csv", engine="fmu", workers=None, das
     todo_all = points(grid, fixed)
     columns = ["key"] + list(dict.fromkeys(k for p in todo_all for k in p)) + list(MEASURES)
     table = Table(out, columns)
-    path = str(find_fmu(fmu)) if engine == "fmu" else None
+    path = str(fmu) if engine == "fmu" and fmu is not None else None
+    if engine == "fmu" and fmu is None:  # each point runs its model's FMU: each built once, before the workers start
+        for n in sorted({storeys_of(_start_values(p)[0]) for p in todo_all}):
+            find_fmu(storeys=n)
     run_table(run_point, todo_all, [key(p) for p in todo_all], table, engine, path, workers, dask, scheduler,
               progress, "study")
     rows = [table.done[key(p)] for p in todo_all]
