@@ -238,11 +238,12 @@ class BuildingFlight(ModalFlight):
         j, n = self.gap
         take_peaks(self, peaks, tau, ground, n + 1, j, self.f)
 
-    __slots__ = ("_tau", "_z", "start_floors")
+    __slots__ = ("_tau", "_z", "start_floors", "z0")
 
     def __init__(self, system, z0, b, a, om, psi, T, D, always_bound, gap):
         ModalFlight.__init__(self, system, z0, b, a, om, psi, T, D, always_bound, gap)
         self._tau, self._z = 0.0, z0
+        self.z0 = z0  # the start state (z at tau = 0)
         self.start_floors = z0[:gap[1]]
 
     def state(self, tau):

@@ -21,6 +21,7 @@ Plain Python (math, cmath): this runs inside the FMU.
 """
 import cmath
 import math
+from operator import mul
 
 from . import eigen
 
@@ -212,10 +213,11 @@ class Motion:
             per_mode.append(row)
         if vectors is None:
             vectors = m.V if rows is None else [m.V[i] for i in rows]
+        columns = list(zip(*per_mode))  # per order, the modes' bounds
         out = []
         for vrow in vectors:
             scaled = [w * abs(v) for w, v in zip(m.weight, vrow)]  # (weight |V|) first, as the sum always did
-            out.append([sum(c * pm[j] for c, pm in zip(scaled, per_mode)) for j in range(orders)])
+            out.append([sum(map(mul, scaled, column)) for column in columns])
         return out
 
     def rest(self, rows=None, vectors=None):

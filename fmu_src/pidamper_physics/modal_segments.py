@@ -11,6 +11,7 @@ ground, whatever the level.
   levels' pair: one DOF; a building's floors: N).
 """
 import math
+from operator import mul
 
 from .modal import Motion
 from .segments import TOLERANCE, noise_size
@@ -85,7 +86,7 @@ class ModalStick:
 
     reach = math.inf
     __slots__ = ("motion", "j", "n", "sgn", "d", "a", "om", "kx", "kv", "k0", "K", "C", "b", "bounds", "noise",
-                 "growth", "clear", "_tau", "_z", "start_floors")
+                 "growth", "clear", "_tau", "_z", "start_floors", "z0")
 
     def __init__(self, system, z0, j, sgn, d, b, a, om, psi, T, contact):
         modes, K, C = system
@@ -98,6 +99,7 @@ class ModalStick:
         self.j, self.n, self.sgn, self.d, self.a, self.om, self.K, self.C, self.b = j, n, sgn, d, a, om, K, C, b
         self.kx, self.kv, self.k0 = contact
         self._tau, self._z = 0.0, z0
+        self.z0 = z0  # the start state (z at tau = 0)
         self.start_floors = z0[:n]
         self.growth = max(modes.fastest, om if a != 0.0 else 0.0)
         aa = abs(a)
@@ -162,11 +164,12 @@ def chain(z, n, K, C, b, j, a, om, s, c):
     """(x, v, acc, jerk, snap) of q'' + C q' + K q = b + e_j a sin(Omega tau + psi) at the state
     z = (q, q') of n DOF, given s, c = sin, cos(Omega tau + psi)."""
     x, v = z[:n], z[n:]
-    acc = [b[r] - sum(K[r][k] * x[k] for k in range(n)) - sum(C[r][k] * v[k] for k in range(n)) for r in range(n)]
+    # sum(map(mul, row, x)) forms and adds the same products in the same order as a sum over k
+    acc = [br - sum(map(mul, kr, x)) - sum(map(mul, cr, v)) for br, kr, cr in zip(b, K, C)]
     acc[j] += a * s
-    jerk = [-sum(K[r][k] * v[k] for k in range(n)) - sum(C[r][k] * acc[k] for k in range(n)) for r in range(n)]
+    jerk = [-sum(map(mul, kr, v)) - sum(map(mul, cr, acc)) for kr, cr in zip(K, C)]
     jerk[j] += a * om * c
-    snap = [-sum(K[r][k] * acc[k] for k in range(n)) - sum(C[r][k] * jerk[k] for k in range(n)) for r in range(n)]
+    snap = [-sum(map(mul, kr, acc)) - sum(map(mul, cr, jerk)) for kr, cr in zip(K, C)]
     snap[j] -= a * om * om * s
     return x, v, acc, jerk, snap
 
@@ -175,13 +178,12 @@ def take_peaks(seg, peaks, tau, ground, n, j, a):
     """Raise `peaks` (a building's running maxima, floors = the first DOF of the segment's system
     of n DOF, the harmonic a sin on DOF j) over [0, tau] of `seg`, under ground acceleration `ground`."""
     motion, K, C, b, om = seg.motion, seg.K, seg.C, seg.b, seg.om
-    rows = list(range(peaks.n))
 
     def at(tau_):
         s, c = motion.load(tau_)
-        return chain(seg.state(tau_), n, K, C, b, j, a, om, s, c)
+        return chain(seg.z0 if tau_ == 0.0 else seg.state(tau_), n, K, C, b, j, a, om, s, c)
 
-    peaks.take(at, motion.bounds(tau, 6, rows), motion.rest(rows), tau, ground)
+    peaks.take(at, motion.bounds(tau, 6, range(peaks.n)), tau, ground)
 
 
 def harmonic_work(seg, tau, amplitude, om, psi, velocity):

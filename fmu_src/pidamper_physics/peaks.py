@@ -89,30 +89,32 @@ class Peaks:
 
     # ---- one piece ----------------------------------------------------------------------
 
-    def take(self, chain, bounds, rest, tau, a_g):
+    def take(self, chain, bounds, tau, a_g):
         """Raise the maxima over a piece of length tau >= 0 [s] under the held ground acceleration
         a_g [m/s2], then move the ground's velocity on.  chain(s) -> (x, v, acc, jerk, snap) of the
         floors relative to the ground (floor 1 first; extra entries ignored); bounds: per floor the
-        bounds of |x_k - rest_k|, |x_k'|, ..., |x_k^(5)| over the piece; rest: per floor rest_k."""
+        bounds of |x_k - rest_k|, |x_k'|, ..., |x_k^(5)| over the piece.  A quantity whose value at
+        the start plus tau times its derivative's bound stays below its maximum is not searched."""
         n, ih = self.n, self.inv_h
         vg = self.v_ground
-        active = []  # (kind, k, B3): the quantities whose bound over the piece reaches their maximum
+        x, v, acc, _, _ = start = chain(0.0)
+        active = []  # (kind, k, B3): the quantities that may reach their maximum in the piece
         for k in range(n):
             bk = bounds[k]
             if k:
-                bl, rl = bounds[k - 1], rest[k - 1]
-                reach = (abs(rest[k] - rl) + bk[0] + bl[0]) * ih[k]
+                bl = bounds[k - 1]
+                reach = abs(x[k] - x[k - 1]) + min(tau * (bk[1] + bl[1]), 2.0 * (bk[0] + bl[0]))
                 b3 = (bk[3] + bl[3]) * ih[k]
             else:
-                reach, b3 = (abs(rest[0]) + bk[0]) * ih[0], bk[3] * ih[0]
-            if reach > self.drift[k]:
+                reach, b3 = abs(x[0]) + min(tau * bk[1], 2.0 * bk[0]), bk[3] * ih[0]
+            if reach * ih[k] > self.drift[k]:
                 active.append((0, k, b3))
-            if bk[1] + abs(vg) + abs(a_g) * tau > self.velocity[k]:
+            if abs(v[k] + vg) + tau * (bk[2] + abs(a_g)) > self.velocity[k]:
                 active.append((1, k, bk[4]))
-            if bk[2] + abs(a_g) > self.acceleration[k]:
+            if abs(acc[k] + a_g) + tau * bk[3] > self.acceleration[k]:
                 active.append((2, k, bk[5]))
         if active:
-            self._scan(chain, active, tau, a_g)
+            self._scan(chain, start, active, tau, a_g)
         self.v_ground = vg + a_g * tau
 
     def _values(self, point, s, a_g, active):
@@ -138,10 +140,10 @@ class Peaks:
             out.append((f, f1, f2))
         return out
 
-    def _scan(self, chain, active, tau, a_g):
-        """Certify [0, tau] interval by interval (see the module doc)."""
+    def _scan(self, chain, start, active, tau, a_g):
+        """Certify [0, tau] interval by interval (see the module doc); start = chain(0.0)."""
         tops = (self.drift, self.velocity, self.acceleration)
-        a, fa = 0.0, self._values(chain(0.0), 0.0, a_g, active)
+        a, fa = 0.0, self._values(start, 0.0, a_g, active)
         if tau <= 0.0:
             return
         b = tau
@@ -151,9 +153,12 @@ class Peaks:
             worst, excess = -1, 0.0
             for i, (kind, k, b3) in enumerate(active):
                 ya, yb = fa[i], fb[i]
-                bound = min(_cubic_max(ya[0], ya[1], ya[2], b3, length), _cubic_max(yb[0], -yb[1], yb[2], b3, length))
-                top = tops[kind][k]
-                over = bound - top * (1.0 + REL) - _TINY
+                top = tops[kind][k] * (1.0 + REL) + _TINY
+                f, f1, f2 = ya
+                if abs(f) + length * (abs(f1) + length * (0.5 * abs(f2) + length * b3 / 6.0)) <= top:
+                    continue  # far below its maximum: the crude bound settles it
+                bound = min(_cubic_max(f, f1, f2, b3, length), _cubic_max(yb[0], -yb[1], yb[2], b3, length))
+                over = bound - top
                 if over > excess:
                     worst, excess = i, over
             if worst < 0 or length <= 4e-16 * tau:  # certified (or down to rounding of the clock)

@@ -135,8 +135,7 @@ class ShearMotion:
         amps = [math.hypot(mode.a, mode.b) for mode in modes]
         bounds = [[sum(abs(phi[k][r]) * amps[r] * modes[r].w ** j for r in range(n)) for j in range(6)]
                   for k in range(n)]
-        rest = [sum(phi[k][r] * modes[r].p / modes[r].ww for r in range(n)) for k in range(n)]
-        self.peaks.take(at, bounds, rest, tau, ground)
+        self.peaks.take(at, bounds, tau, ground)
 
     # ---- state ----------------------------------------------------------------------------
 
