@@ -25,6 +25,8 @@ CASES = {
     "impacts (resonance)": "dict(mu=0.02), (0.0, 0.0, 0.0, 0.0), 0.0981",
     "3-storey building with damper": "dict(storeys=3, fidelity=1, zeta_s=0.05, mu=0.03, FR=1.0, d=0.01), "
                                      "(0.0, 0.0, 0.0, 0.0), 0.0",
+    "10-storey building with damper": "dict(storeys=10, fidelity=1, zeta_s=0.02, mu=0.03, FR=1.0, d=0.04), "
+                                      "(0.0, 0.0, 0.0, 0.0), 0.0",
 }
 
 RUNNER = """

@@ -121,6 +121,13 @@ class Modes:
         self.W = [[inv_rows[k][j] / (s if j >= n else 1.0) for j in range(2 * n)] for k in keep]
         self.fastest = s * scale
 
+    def weighted(self, i):
+        """weight_k |V[i][k]| over the kept modes (the bounds of component i's modal parts), kept."""
+        cache = self.__dict__.setdefault("_weighted", {})
+        if i not in cache:
+            cache[i] = [w * abs(v) for w, v in zip(self.weight, self.V[i])]
+        return cache[i]
+
     @staticmethod
     def _shape(K, C, lam):
         if len(K) == 1:
@@ -211,14 +218,12 @@ class Motion:
                         row[j] += min(p, steady)
                         p = a * p + ga * om ** j
             per_mode.append(row)
-        if vectors is None:
-            vectors = m.V if rows is None else [m.V[i] for i in rows]
         columns = list(zip(*per_mode))  # per order, the modes' bounds
-        out = []
-        for vrow in vectors:
-            scaled = [w * abs(v) for w, v in zip(m.weight, vrow)]  # (weight |V|) first, as the sum always did
-            out.append([sum(map(mul, scaled, column)) for column in columns])
-        return out
+        if vectors is None:  # the components' rows (weight |V|, kept with the modes)
+            weighted = [m.weighted(i) for i in (range(2 * m.n) if rows is None else rows)]
+        else:  # (weight |V|) first, as the sum always did
+            weighted = [[w * abs(v) for w, v in zip(m.weight, vrow)] for vrow in vectors]
+        return [[sum(map(mul, scaled, column)) for column in columns] for scaled in weighted]
 
     def rest(self, rows=None, vectors=None):
         """Per component of z: the constant part (the equilibrium under the held load b); only

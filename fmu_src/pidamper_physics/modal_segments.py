@@ -160,13 +160,15 @@ class ModalStick:
                 sg * (sum(kx[k] * jerk[k] + kv[k] * snap[k] for k in rng) - a * om ** 3 * c))
 
 
-def chain(z, n, K, C, b, j, a, om, s, c):
+def chain(z, n, K, C, b, j, a, om, s, c, full=True):
     """(x, v, acc, jerk, snap) of q'' + C q' + K q = b + e_j a sin(Omega tau + psi) at the state
-    z = (q, q') of n DOF, given s, c = sin, cos(Omega tau + psi)."""
+    z = (q, q') of n DOF, given s, c = sin, cos(Omega tau + psi); jerk and snap None unless full."""
     x, v = z[:n], z[n:]
     # sum(map(mul, row, x)) forms and adds the same products in the same order as a sum over k
     acc = [br - sum(map(mul, kr, x)) - sum(map(mul, cr, v)) for br, kr, cr in zip(b, K, C)]
     acc[j] += a * s
+    if not full:
+        return x, v, acc, None, None
     jerk = [-sum(map(mul, kr, v)) - sum(map(mul, cr, acc)) for kr, cr in zip(K, C)]
     jerk[j] += a * om * c
     snap = [-sum(map(mul, kr, acc)) - sum(map(mul, cr, jerk)) for kr, cr in zip(K, C)]
@@ -179,11 +181,11 @@ def take_peaks(seg, peaks, tau, ground, n, j, a):
     of n DOF, the harmonic a sin on DOF j) over [0, tau] of `seg`, under ground acceleration `ground`."""
     motion, K, C, b, om = seg.motion, seg.K, seg.C, seg.b, seg.om
 
-    def at(tau_):
+    def at(tau_, full=True):
         s, c = motion.load(tau_)
-        return chain(seg.z0 if tau_ == 0.0 else seg.state(tau_), n, K, C, b, j, a, om, s, c)
+        return chain(seg.z0 if tau_ == 0.0 else seg.state(tau_), n, K, C, b, j, a, om, s, c, full)
 
-    peaks.take(at, motion.bounds(tau, 6, range(peaks.n)), tau, ground)
+    peaks.take(at, lambda orders: motion.bounds(tau, orders, range(peaks.n)), tau, ground)
 
 
 def harmonic_work(seg, tau, amplitude, om, psi, velocity):

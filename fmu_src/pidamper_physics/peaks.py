@@ -91,30 +91,44 @@ class Peaks:
 
     def take(self, chain, bounds, tau, a_g):
         """Raise the maxima over a piece of length tau >= 0 [s] under the held ground acceleration
-        a_g [m/s2], then move the ground's velocity on.  chain(s) -> (x, v, acc, jerk, snap) of the
-        floors relative to the ground (floor 1 first; extra entries ignored); bounds: per floor the
-        bounds of |x_k - rest_k|, |x_k'|, ..., |x_k^(5)| over the piece.  A quantity whose value at
-        the start plus tau times its derivative's bound stays below its maximum is not searched."""
+        a_g [m/s2], then move the ground's velocity on.  chain(s, full=True) -> (x, v, acc, jerk,
+        snap) of the floors relative to the ground (floor 1 first; extra entries ignored; jerk and
+        snap None unless full); bounds(orders) -> per floor the bounds of |x_k - rest_k|, |x_k'|,
+        ..., |x_k^(orders-1)| over the piece.  A quantity whose start value and slope, with a bound
+        on its curvature, keep it below its maximum over the piece is not searched."""
         n, ih = self.n, self.inv_h
         vg = self.v_ground
-        x, v, acc, _, _ = start = chain(0.0)
-        active = []  # (kind, k, B3): the quantities that may reach their maximum in the piece
+        x, v, acc, _, _ = chain(0.0, False)
+        b = bounds(4)
+        active = []  # (kind, k): the quantities that may reach their maximum in the piece
+        half = 0.5 * tau * tau
         for k in range(n):
-            bk = bounds[k]
+            bk = b[k]
             if k:
-                bl = bounds[k - 1]
-                reach = abs(x[k] - x[k - 1]) + min(tau * (bk[1] + bl[1]), 2.0 * (bk[0] + bl[0]))
-                b3 = (bk[3] + bl[3]) * ih[k]
+                bl = b[k - 1]
+                f0, f1 = x[k] - x[k - 1], v[k] - v[k - 1]
+                reach = min(max(abs(f0), abs(f0 + f1 * tau)) + half * (bk[2] + bl[2]), abs(f0) + 2.0 * (bk[0] + bl[0]))
             else:
-                reach, b3 = abs(x[0]) + min(tau * bk[1], 2.0 * bk[0]), bk[3] * ih[0]
+                f0, f1 = x[0], v[0]
+                reach = min(max(abs(f0), abs(f0 + f1 * tau)) + half * bk[2], abs(f0) + 2.0 * bk[0])
             if reach * ih[k] > self.drift[k]:
-                active.append((0, k, b3))
-            if abs(v[k] + vg) + tau * (bk[2] + abs(a_g)) > self.velocity[k]:
-                active.append((1, k, bk[4]))
-            if abs(acc[k] + a_g) + tau * bk[3] > self.acceleration[k]:
-                active.append((2, k, bk[5]))
+                active.append((0, k))
+            f0, f1 = v[k] + vg, acc[k] + a_g
+            if max(abs(f0), abs(f0 + f1 * tau)) + half * bk[3] > self.velocity[k]:
+                active.append((1, k))
+            if abs(f1) + tau * bk[3] > self.acceleration[k]:
+                active.append((2, k))
         if active:
-            self._scan(chain, start, active, tau, a_g)
+            if any(kind for kind, _ in active):
+                b = bounds(6)
+            with_b3 = []
+            for kind, k in active:
+                if kind == 0:
+                    b3 = (b[k][3] + (b[k - 1][3] if k else 0.0)) * ih[k]
+                else:  # the third derivative of v is x^(4), of a is x^(5)
+                    b3 = b[k][3 + kind]
+                with_b3.append((kind, k, b3))
+            self._scan(chain, chain(0.0), with_b3, tau, a_g)
         self.v_ground = vg + a_g * tau
 
     def _values(self, point, s, a_g, active):

@@ -122,19 +122,24 @@ class ShearMotion:
         phi, n, modes = self.b.shapes, self.n, self.modes
         C, K = self._per_mass
 
-        def at(s):
+        def at(s, full=True):
             qs = [mode.at(s) for mode in modes]
             x = [sum(phi[k][r] * qs[r][0] for r in range(n)) for k in range(n)]
             v = [sum(phi[k][r] * qs[r][1] for r in range(n)) for k in range(n)]
             acc = [held[k] - sum(C[k][i] * v[i] + K[k][i] * x[i] for i in range(n)) for k in range(n)]
+            if not full:
+                return x, v, acc, None, None
             jerk = [-sum(C[k][i] * acc[i] + K[k][i] * v[i] for i in range(n)) for k in range(n)]
             snap = [-sum(C[k][i] * jerk[i] + K[k][i] * acc[i] for i in range(n)) for k in range(n)]
             return x, v, acc, jerk, snap
 
         # each mode's free part is exp(-s tau) (A cos + B sin): |d^j| <= sqrt(A^2 + B^2) w^j
         amps = [math.hypot(mode.a, mode.b) for mode in modes]
-        bounds = [[sum(abs(phi[k][r]) * amps[r] * modes[r].w ** j for r in range(n)) for j in range(6)]
-                  for k in range(n)]
+
+        def bounds(orders):
+            return [[sum(abs(phi[k][r]) * amps[r] * modes[r].w ** j for r in range(n)) for j in range(orders)]
+                    for k in range(n)]
+
         self.peaks.take(at, bounds, tau, ground)
 
     # ---- state ----------------------------------------------------------------------------
