@@ -121,6 +121,21 @@ class Modes:
         self.W = [[inv_rows[k][j] / (s if j >= n else 1.0) for j in range(2 * n)] for k in keep]
         self.fastest = s * scale
 
+    def weighted_complex(self, i):
+        """weight_k V[i][k] over the kept modes (component i = sum of the real parts of these times
+        the modal coordinates), kept."""
+        cache = self.__dict__.setdefault("_weighted_complex", {})
+        if i not in cache:
+            cache[i] = [w * v for w, v in zip(self.weight, self.V[i])]
+        return cache[i]
+
+    def weighted_difference(self, i, j):
+        """weight_k |V[i][k] - V[j][k]| over the kept modes (the bounds of z_i - z_j), kept."""
+        cache = self.__dict__.setdefault("_weighted_difference", {})
+        if (i, j) not in cache:
+            cache[i, j] = [w * abs(a - b) for w, a, b in zip(self.weight, self.V[i], self.V[j])]
+        return cache[i, j]
+
     def weighted(self, i):
         """weight_k |V[i][k]| over the kept modes (the bounds of component i's modal parts), kept."""
         cache = self.__dict__.setdefault("_weighted", {})
@@ -144,14 +159,14 @@ class Modes:
 class Motion:
     """One segment of q'' + C q' + K q = b + f sin(Omega tau + psi) from z0 = (q0, q0')."""
 
-    __slots__ = ("modes", "eta0", "coef", "const", "gp", "gm", "om", "forced", "psi")
+    __slots__ = ("modes", "eta0", "coef", "const", "gp", "gm", "om", "forced", "psi", "gamma")
 
     def __init__(self, modes, z0, b, f=None, om=0.0, psi=0.0):
         self.modes = modes
         n = modes.n
         self.om, self.psi = om, psi
         self.forced = f is not None and any(fi != 0.0 for fi in f)
-        self.eta0, self.coef, self.const, self.gp, self.gm = [], [], [], [], []
+        self.eta0, self.coef, self.const, self.gp, self.gm, self.gamma = [], [], [], [], [], []
         eip = cmath.exp(1j * psi)
         for lam, w in zip(modes.lam, modes.W):
             eta0 = sum(w[i] * z0[i] for i in range(2 * n))
@@ -162,6 +177,7 @@ class Motion:
             self.const.append(-c)
             if self.forced:
                 gamma = sum(w[n + i] * f[i] for i in range(n))
+                self.gamma.append(gamma)
                 self.gp.append(gamma * eip / 2j)
                 self.gm.append(-gamma / eip / 2j)
 
@@ -191,6 +207,32 @@ class Motion:
             out.append(s)
         return out
 
+    def derivatives(self, tau, rows, orders=5):
+        """{row: [d^j z_row / dtau^j at tau for j = lo..hi-1]} of the components `rows` ({row: (lo,
+        hi)} with hi <= orders), from the modal coordinates and their equation
+        eta' = lam eta + beta + gamma sin(Omega tau + psi): a few complex products per mode and
+        order, cheaper than z(tau) and the system's matrices when a few rows are asked for."""
+        m = self.modes
+        eta = self.eta0 if tau == 0.0 else self.modal(tau)
+        s, c = self.load(tau)
+        om = self.om
+        levels = [eta]
+        d = [lam * e - k * lam for lam, e, k in zip(m.lam, eta, self.const)]  # lam eta + beta, beta = -lam const
+        if self.forced:
+            d = [x + g * s for x, g in zip(d, self.gamma)]
+        levels.append(d)
+        for j in range(2, orders):  # d/dtau of gamma sin: gamma Omega cos, -gamma Omega^2 sin, ...
+            d = [lam * x for lam, x in zip(m.lam, d)]
+            if self.forced:
+                term = om ** (j - 1) * (c, -s, -c, s)[(j - 2) % 4]
+                d = [x + g * term for x, g in zip(d, self.gamma)]
+            levels.append(d)
+        out = {}
+        for i, (lo, hi) in rows.items():
+            row = m.weighted_complex(i)
+            out[i] = [sum([(w * e).real for w, e in zip(row, levels[j])]) for j in range(lo, hi)]
+        return out
+
     def load(self, tau):
         """(sin, cos) of Omega tau + psi (0, 0 unforced)."""
         if not self.forced:
@@ -198,10 +240,11 @@ class Motion:
         a = self.om * tau + self.psi
         return math.sin(a), math.cos(a)
 
-    def bounds(self, T, orders=5, rows=None, vectors=None):
+    def bounds(self, T, orders=5, rows=None, vectors=None, weighted=None):
         """Per component of z: bounds of |z_c - rest_c| and of |d^j z_c / dtau^j|, j = 1..orders-1,
         over 0 <= tau <= T (Re lam <= 0 makes |exp(lam tau)| <= 1).  Only the components `rows`
-        (indices), if given; or of the linear functions c . z whose modal rows (c V) are `vectors`."""
+        (indices), if given; or of the linear functions c . z whose modal rows (c V) are `vectors`,
+        or whose rows weight_k |(c V)_k| are `weighted` (Modes.weighted, weighted_difference)."""
         m = self.modes
         om = self.om
         per_mode = []
@@ -219,7 +262,9 @@ class Motion:
                         p = a * p + ga * om ** j
             per_mode.append(row)
         columns = list(zip(*per_mode))  # per order, the modes' bounds
-        if vectors is None:  # the components' rows (weight |V|, kept with the modes)
+        if weighted is not None:
+            pass
+        elif vectors is None:  # the components' rows (weight |V|, kept with the modes)
             weighted = [m.weighted(i) for i in (range(2 * m.n) if rows is None else rows)]
         else:  # (weight |V|) first, as the sum always did
             weighted = [[w * abs(v) for w, v in zip(m.weight, vrow)] for vrow in vectors]

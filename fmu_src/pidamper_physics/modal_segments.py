@@ -179,13 +179,35 @@ def chain(z, n, K, C, b, j, a, om, s, c, full=True):
 def take_peaks(seg, peaks, tau, ground, n, j, a):
     """Raise `peaks` (a building's running maxima, floors = the first DOF of the segment's system
     of n DOF, the harmonic a sin on DOF j) over [0, tau] of `seg`, under ground acceleration `ground`."""
-    motion, K, C, b, om = seg.motion, seg.K, seg.C, seg.b, seg.om
+    peaks.take(ModalPiece(seg, n, j, a, tau, peaks.n), tau, ground)
 
-    def at(tau_, full=True):
-        s, c = motion.load(tau_)
-        return chain(seg.z0 if tau_ == 0.0 else seg.state(tau_), n, K, C, b, j, a, om, s, c, full)
 
-    peaks.take(at, lambda orders: motion.bounds(tau, orders, range(peaks.n)), tau, ground)
+class ModalPiece:
+    """A closed-form piece [0, tau] of a modal segment as peaks.Peaks searches it: the floors are
+    the first `floors` DOF of its n-DOF system."""
+
+    __slots__ = ("seg", "n", "j", "a", "tau", "floors")
+
+    def __init__(self, seg, n, j, a, tau, floors):
+        self.seg, self.n, self.j, self.a, self.tau, self.floors = seg, n, j, a, tau, floors
+
+    def start(self):
+        """(x, v, acc, jerk, snap) of every DOF at tau = 0."""
+        seg = self.seg
+        s, c = seg.motion.load(0.0)
+        return chain(seg.z0, self.n, seg.K, seg.C, seg.b, self.j, self.a, seg.om, s, c)
+
+    def bounds(self):
+        """(per floor the bounds of x and its derivatives up to x^(5), per storey the bound of its
+        drift's third derivative) over the piece."""
+        motion, floors = self.seg.motion, self.floors
+        modes = motion.modes
+        drifts = [modes.weighted(0)] + [modes.weighted_difference(k, k - 1) for k in range(1, floors)]
+        return motion.bounds(self.tau, 6, range(floors)), [b[3] for b in motion.bounds(self.tau, 4, weighted=drifts)]
+
+    def derivatives(self, s, floors):
+        """{floor: [x^(lo), ..., x^(hi-1)]} at s of the floors asked for ({floor: (lo, hi)}, hi <= 5)."""
+        return self.seg.motion.derivatives(s, floors)
 
 
 def harmonic_work(seg, tau, amplitude, om, psi, velocity):

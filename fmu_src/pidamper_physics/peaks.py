@@ -89,99 +89,128 @@ class Peaks:
 
     # ---- one piece ----------------------------------------------------------------------
 
-    def take(self, chain, bounds, tau, a_g):
+    def take(self, piece, tau, a_g):
         """Raise the maxima over a piece of length tau >= 0 [s] under the held ground acceleration
-        a_g [m/s2], then move the ground's velocity on.  chain(s, full=True) -> (x, v, acc, jerk,
-        snap) of the floors relative to the ground (floor 1 first; extra entries ignored; jerk and
-        snap None unless full); bounds(orders) -> per floor the bounds of |x_k - rest_k|, |x_k'|,
-        ..., |x_k^(orders-1)| over the piece.  A quantity whose start value and slope, with a bound
-        on its curvature, keep it below its maximum over the piece is not searched."""
+        a_g [m/s2], then move the ground's velocity on.  `piece` gives, relative to the ground,
+        start() -> (x, v, acc, jerk, snap) of the floors at its start (floor 1 first; extra entries
+        ignored), bounds() -> (per floor the bounds of |x_k - rest_k|, |x_k'|, ..., |x_k^(5)| over
+        the piece, per storey the bound of the third derivative of its drift x_k - x_(k-1)), and
+        derivatives(s, {k: (lo, hi)}) -> {k: [x_k^(lo), ..., x_k^(hi-1)]} at s.  A quantity that the forward cubic from the start clears over the whole
+        piece is not searched."""
         n, ih = self.n, self.inv_h
         vg = self.v_ground
-        x, v, acc, _, _ = chain(0.0, False)
-        b = bounds(4)
-        active = []  # (kind, k): the quantities that may reach their maximum in the piece
-        half = 0.5 * tau * tau
+        x, v, acc, jerk, snap = piece.start()
+        b, drift = piece.bounds()
+        active, values = [], []
         for k in range(n):
             bk = b[k]
+            h = ih[k]
+            active.append((0, k, drift[k] * h))
             if k:
-                bl = b[k - 1]
-                f0, f1 = x[k] - x[k - 1], v[k] - v[k - 1]
-                reach = min(max(abs(f0), abs(f0 + f1 * tau)) + half * (bk[2] + bl[2]), abs(f0) + 2.0 * (bk[0] + bl[0]))
+                i = k - 1
+                values.append(((x[k] - x[i]) * h, (v[k] - v[i]) * h, (acc[k] - acc[i]) * h))
             else:
-                f0, f1 = x[0], v[0]
-                reach = min(max(abs(f0), abs(f0 + f1 * tau)) + half * bk[2], abs(f0) + 2.0 * bk[0])
-            if reach * ih[k] > self.drift[k]:
-                active.append((0, k))
-            f0, f1 = v[k] + vg, acc[k] + a_g
-            if max(abs(f0), abs(f0 + f1 * tau)) + half * bk[3] > self.velocity[k]:
-                active.append((1, k))
-            if abs(f1) + tau * bk[3] > self.acceleration[k]:
-                active.append((2, k))
-        if active:
-            if any(kind for kind, _ in active):
-                b = bounds(6)
-            with_b3 = []
-            for kind, k in active:
-                if kind == 0:
-                    b3 = (b[k][3] + (b[k - 1][3] if k else 0.0)) * ih[k]
-                else:  # the third derivative of v is x^(4), of a is x^(5)
-                    b3 = b[k][3 + kind]
-                with_b3.append((kind, k, b3))
-            self._scan(chain, chain(0.0), with_b3, tau, a_g)
+                values.append((x[0] * h, v[0] * h, acc[0] * h))
+            active.append((1, k, bk[4]))  # the third derivative of v is x^(4), of a is x^(5)
+            values.append((v[k] + vg, acc[k] + a_g, jerk[k]))
+            active.append((2, k, bk[5]))
+            values.append((acc[k] + a_g, jerk[k], snap[k]))
+        tops = (self.drift, self.velocity, self.acceleration)
+        for (kind, k, _), (f, _, _) in zip(active, values):
+            if abs(f) > tops[kind][k]:
+                tops[kind][k] = abs(f)
+        active, values = self._open(active, values, tau)
+        if active and tau > 0.0:
+            self._scan(piece, active, values, tau, a_g)
         self.v_ground = vg + a_g * tau
 
-    def _values(self, point, s, a_g, active):
-        """(f, f', f'') of each active quantity at the chain point taken at s; raises the maxima."""
-        x, v, acc, jerk, snap = point
+    #: the orders of the derivatives of x_k each kind needs, (lo, hi): drift 0..2, v_abs 1..3, a_abs 2..4
+    _LEVELS = ((0, 3), (1, 4), (2, 5))
+
+    def _values(self, piece, s, a_g, active):
+        """(f, f', f'') of each active quantity at s of the piece; raises the maxima."""
+        need = {}
+        for kind, k, _ in active:
+            lo, hi = self._LEVELS[kind]
+            for floor in ((k, k - 1) if kind == 0 and k else (k,)):
+                old = need.get(floor)
+                need[floor] = (lo, hi) if old is None else (min(old[0], lo), max(old[1], hi))
+        d = piece.derivatives(s, need)
         ih, vg = self.inv_h, self.v_ground + a_g * s
         tops = (self.drift, self.velocity, self.acceleration)
         out = []
         for kind, k, _ in active:
+            lo = need[k][0]
+            dk = d[k]
             if kind == 0:
+                h = ih[k]
                 if k:
-                    i = k - 1
-                    f, f1, f2 = (x[k] - x[i]) * ih[k], (v[k] - v[i]) * ih[k], (acc[k] - acc[i]) * ih[k]
+                    dl, ll = d[k - 1], need[k - 1][0]
+                    f, f1, f2 = ((dk[j - lo] - dl[j - ll]) * h for j in (0, 1, 2))
                 else:
-                    f, f1, f2 = x[0] * ih[0], v[0] * ih[0], acc[0] * ih[0]
+                    f, f1, f2 = (dk[j - lo] * h for j in (0, 1, 2))
             elif kind == 1:
-                f, f1, f2 = v[k] + vg, acc[k] + a_g, jerk[k]
+                f, f1, f2 = dk[1 - lo] + vg, dk[2 - lo] + a_g, dk[3 - lo]
             else:
-                f, f1, f2 = acc[k] + a_g, jerk[k], snap[k]
+                f, f1, f2 = dk[2 - lo] + a_g, dk[3 - lo], dk[4 - lo]
             top = tops[kind]
             if abs(f) > top[k]:
                 top[k] = abs(f)
             out.append((f, f1, f2))
         return out
 
-    def _scan(self, chain, start, active, tau, a_g):
-        """Certify [0, tau] interval by interval (see the module doc); start = chain(0.0)."""
-        tops = (self.drift, self.velocity, self.acceleration)
-        a, fa = 0.0, self._values(start, 0.0, a_g, active)
-        if tau <= 0.0:
-            return
-        b = tau
+    def _scan(self, piece, active, fa, tau, a_g):
+        """Certify [0, tau] interval by interval (see the module doc); fa: the active quantities'
+        (f, f', f'') at 0.  At each certified point the quantities that its forward cubic alone
+        clears for the rest of the piece drop out, so the search goes on with those that may
+        still peak."""
+        a, b = 0.0, tau
         for _ in range(_MAX_POINTS):
-            fb = self._values(chain(b), b, a_g, active)
+            if not active:
+                return
+            fb = self._values(piece, b, a_g, active)
             length = b - a
-            worst, excess = -1, 0.0
-            for i, (kind, k, b3) in enumerate(active):
-                ya, yb = fa[i], fb[i]
-                top = tops[kind][k] * (1.0 + REL) + _TINY
-                f, f1, f2 = ya
-                if abs(f) + length * (abs(f1) + length * (0.5 * abs(f2) + length * b3 / 6.0)) <= top:
-                    continue  # far below its maximum: the crude bound settles it
-                bound = min(_cubic_max(f, f1, f2, b3, length), _cubic_max(yb[0], -yb[1], yb[2], b3, length))
-                over = bound - top
-                if over > excess:
-                    worst, excess = i, over
+            worst = self._worst(active, fa, fb, length)
             if worst < 0 or length <= 4e-16 * tau:  # certified (or down to rounding of the clock)
                 if b >= tau:
                     return
-                a, fa, b = b, fb, tau
+                a, b = b, tau
+                active, fa = self._open(active, fb, tau - a)
                 continue
             b = a + self._next(fa[worst], fb[worst], length)
         # never reached in practice: what is left is accepted (its ends are counted)
+
+    def _open(self, active, values, rest):
+        """The quantities (and their values) that the forward cubic from here does not clear over
+        the `rest` of the piece."""
+        tops = (self.drift, self.velocity, self.acceleration)
+        kept, kept_values = [], []
+        for q, y in zip(active, values):
+            kind, k, b3 = q
+            top = tops[kind][k] * (1.0 + REL) + _TINY
+            f, f1, f2 = y
+            if abs(f) + rest * (abs(f1) + rest * (0.5 * abs(f2) + rest * b3 / 6.0)) <= top:
+                continue
+            if _cubic_max(f, f1, f2, b3, rest) <= top:
+                continue
+            kept.append(q)
+            kept_values.append(y)
+        return kept, kept_values
+
+    def _worst(self, active, fa, fb, length):
+        """Index of the active quantity the interval's two cubics leave most above its maximum, or -1."""
+        tops = (self.drift, self.velocity, self.acceleration)
+        worst, excess = -1, 0.0
+        for i, (kind, k, b3) in enumerate(active):
+            top = tops[kind][k] * (1.0 + REL) + _TINY
+            f, f1, f2 = fa[i]
+            if abs(f) + length * (abs(f1) + length * (0.5 * abs(f2) + length * b3 / 6.0)) <= top:
+                continue  # far below its maximum: the crude bound settles it
+            yb = fb[i]
+            over = min(_cubic_max(f, f1, f2, b3, length), _cubic_max(yb[0], -yb[1], yb[2], b3, length)) - top
+            if over > excess:
+                worst, excess = i, over
+        return worst
 
     @staticmethod
     def _next(ya, yb, length):

@@ -119,28 +119,7 @@ class ShearMotion:
 
     def _take_peaks(self, tau, held, ground):
         """Raise the running maxima over the piece [0, tau] the started modes describe."""
-        phi, n, modes = self.b.shapes, self.n, self.modes
-        C, K = self._per_mass
-
-        def at(s, full=True):
-            qs = [mode.at(s) for mode in modes]
-            x = [sum(phi[k][r] * qs[r][0] for r in range(n)) for k in range(n)]
-            v = [sum(phi[k][r] * qs[r][1] for r in range(n)) for k in range(n)]
-            acc = [held[k] - sum(C[k][i] * v[i] + K[k][i] * x[i] for i in range(n)) for k in range(n)]
-            if not full:
-                return x, v, acc, None, None
-            jerk = [-sum(C[k][i] * acc[i] + K[k][i] * v[i] for i in range(n)) for k in range(n)]
-            snap = [-sum(C[k][i] * jerk[i] + K[k][i] * acc[i] for i in range(n)) for k in range(n)]
-            return x, v, acc, jerk, snap
-
-        # each mode's free part is exp(-s tau) (A cos + B sin): |d^j| <= sqrt(A^2 + B^2) w^j
-        amps = [math.hypot(mode.a, mode.b) for mode in modes]
-
-        def bounds(orders):
-            return [[sum(abs(phi[k][r]) * amps[r] * modes[r].w ** j for r in range(n)) for j in range(orders)]
-                    for k in range(n)]
-
-        self.peaks.take(at, bounds, tau, ground)
+        self.peaks.take(ShearPiece(self, held, tau), tau, ground)
 
     # ---- state ----------------------------------------------------------------------------
 
@@ -162,3 +141,51 @@ class ShearMotion:
         self.t = float(state["t"])
         self.q = [float(v) for v in state["q"]]
         self.qd = [float(v) for v in state["qd"]]
+
+
+class ShearPiece:
+    """A piece [0, tau] of a ShearMotion (its modes started) as peaks.Peaks searches it: each mode
+    is a damped oscillator under a held load, q'' = p - 2 zeta w q' - w^2 q, so its derivatives
+    follow from (q, q') by that recursion."""
+
+    __slots__ = ("motion", "held", "tau")
+
+    def __init__(self, motion, held, tau):
+        self.motion, self.held, self.tau = motion, held, tau
+
+    def _modal(self, s, orders):
+        out = []
+        for mode in self.motion.modes:
+            q, q1 = mode.at(s)
+            levels = [q, q1]
+            c, k = 2.0 * mode.s, mode.ww
+            levels.append(mode.p - c * q1 - k * q)
+            for _ in range(3, orders):
+                levels.append(-c * levels[-1] - k * levels[-2])
+            out.append(levels)
+        return out
+
+    def start(self):
+        n = self.motion.n
+        d = self.derivatives(0.0, {k: (0, 5) for k in range(n)})
+        return tuple([d[k][j] for k in range(n)] for j in range(5))
+
+    def bounds(self):
+        """(per floor the bounds of x and its derivatives up to x^(5), per storey the bound of its
+        drift's third derivative) over the piece."""
+        m = self.motion
+        phi, n, modes = m.b.shapes, m.n, m.modes
+        # each mode's free part is exp(-s tau) (A cos + B sin): |d^j| <= sqrt(A^2 + B^2) w^j
+        amps = [math.hypot(mode.a, mode.b) for mode in modes]
+        floors = [[sum(abs(phi[k][r]) * amps[r] * modes[r].w ** j for r in range(n)) for j in range(6)]
+                  for k in range(n)]
+        drifts = [sum(abs(phi[k][r] - (phi[k - 1][r] if k else 0.0)) * amps[r] * modes[r].w ** 3 for r in range(n))
+                  for k in range(n)]
+        return floors, drifts
+
+    def derivatives(self, s, floors):
+        """{floor: [x^(lo), ..., x^(hi-1)]} at s of the floors asked for ({floor: (lo, hi)}, hi <= 5)."""
+        phi = self.motion.b.shapes
+        q = self._modal(s, 5)
+        return {k: [sum(phi[k][r] * q[r][j] for r in range(len(q))) for j in range(lo, hi)]
+                for k, (lo, hi) in floors.items()}
