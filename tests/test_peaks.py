@@ -148,3 +148,57 @@ def test_the_maxima_are_part_of_the_fmu_state():
         for k in range(101, 201):
             fmu.advance(k * H)
         assert [fmu.get(f"floor[{i}].a_abs_max") for i in (1, 2, 3)] + [fmu.get("storey[1].drift_ratio_max")] == first
+
+
+def test_the_bare_building_s_maxima_match_the_matrix_exponential():
+    """ShearBuilding<N>'s core (ShearMotion) under held forces, ground acceleration and floor
+    impulses: its running maxima against the matrix exponential of the augmented state (scipy),
+    sampled and refined on every piece between impulses, to 1e-9; both sides of an impulse count."""
+    from scipy.linalg import expm
+
+    from pidamper_physics.params import check_building
+    from pidamper_physics.shear_motion import ShearMotion
+
+    masses, stiff, heights, zeta = [1.2e5, 1.0e5, 0.8e5], [9e7, 8e7, 6e7], [4.0, 3.0, 3.0], 0.03
+    building = check_building(masses, stiff, zeta, heights)
+    motion = ShearMotion(building)
+    M = np.diag(masses)
+    Minv = np.linalg.inv(M)
+    K, C = np.array(building.K), np.array(building.C)
+    rng = np.random.default_rng(7)
+    h, tops, v_ground = 0.01, np.zeros((3, 3)), 0.0
+    for step in range(300):
+        F = rng.normal(0.0, 2e5, 3)
+        ag = float(rng.normal(0.0, 3.0))
+        kicks = [(float(rng.uniform(0.0, h)), int(rng.integers(3)), float(rng.normal(0.0, 2e3)))] if step % 7 == 0 else []
+        t0 = motion.t
+        x, v = (np.array(z) for z in motion.floors())
+        A = np.zeros((7, 7))
+        A[:3, 3:6] = np.eye(3)
+        A[3:6, :3], A[3:6, 3:6], A[3:6, 6] = -Minv @ K, -Minv @ C, Minv @ F - ag
+        cuts = [0.0] + [tk for tk, _, _ in sorted(kicks)] + [h]
+        y = np.concatenate([x, v, [1.0]])
+        for (s0, s1), kick in zip(zip(cuts, cuts[1:]), sorted(kicks) + [None]):
+            def at(s, y=y, s0=s0):
+                z = expm(A * (s - s0)) @ y
+                xs, vs = z[:3], z[3:6]
+                drift = np.diff(np.concatenate([[0.0], xs])) / heights
+                return np.abs(np.stack([drift, vs + v_ground + ag * s, Minv @ (F - C @ vs - K @ xs)]))
+            grid = np.linspace(s0, s1, 31)
+            vals = np.array([at(s) for s in grid])
+            tops = np.maximum(tops, vals.max(axis=0))
+            for q in range(3):
+                for k in range(3):
+                    series = vals[:, q, k]
+                    for i in range(1, 30):
+                        if series[i] >= series[i - 1] and series[i] >= series[i + 1]:
+                            best = minimize_scalar(lambda s: -at(s)[q, k], bounds=(grid[i - 1], grid[i + 1]),
+                                                   method="bounded", options={"xatol": 1e-15})
+                            tops[q, k] = max(tops[q, k], -best.fun)
+            y = expm(A * (s1 - s0)) @ y
+            if kick is not None:
+                y[3 + kick[1]] += kick[2] / masses[kick[1]]
+        v_ground += ag * h
+        motion.advance(t0 + h, list(F), ag, [(t0 + tk, k, J) for tk, k, J in kicks])
+    got = np.array([motion.peaks.drift, motion.peaks.velocity, motion.peaks.acceleration])
+    assert got == pytest.approx(tops, rel=1e-9, abs=0.0)
