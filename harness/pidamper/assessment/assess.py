@@ -471,7 +471,8 @@ def write_page(study, rows, fits, risks, out, command, wall, workers):
              "studies: `python -m pidamper.benchmarks.assess_scaling` writes [scaling.md](scaling.md) beside the "
              "shipped study's page.", "",
              f"Intensity: {study.label}, stripes {', '.join(f'{v:g}' for v in study.levels)}; records scaled to "
-             "each level. Demand: peak inter-storey drift ratio over the communication points (storey "
+             "each level. Demand: peak inter-storey drift ratio, the building FMU's exact running maximum "
+             "(located between the communication points; the pendulum primary's over them) (storey "
              f"heights {', '.join(f'{h:g}' for h in study.heights)} m). Damage states: "
              + ", ".join(f"{k} at {v:g}" for k, v in study.damage_states.items()) + ".", "",
              "![IDA](ida.png)", "", "![fragility](fragility.png)", "",
