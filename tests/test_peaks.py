@@ -29,6 +29,22 @@ def matrices():
     return M, K, C, math.sqrt(w2[0])
 
 
+def sampled_and_refined(quantities, s0, s1, intervals):
+    """Largest values of quantities(s) (an array) over [s0, s1]: sampled on a grid, each sampled
+    local maximum refined by a bounded scalar maximiser over its two grid intervals."""
+    grid = np.linspace(s0, s1, intervals + 1)
+    values = np.array([quantities(s) for s in grid])
+    tops = values.max(axis=0)
+    for index in np.ndindex(tops.shape):
+        series = values[(slice(None),) + index]
+        for i in range(1, intervals):
+            if series[i] >= series[i - 1] and series[i] >= series[i + 1]:
+                best = minimize_scalar(lambda s: -quantities(s)[index], bounds=(grid[i - 1], grid[i + 1]),
+                                       method="bounded", options={"xatol": 1e-14 * max(s1 - s0, 1e-300)})
+                tops[index] = max(tops[index], -best.fun)
+    return tops
+
+
 def pieces(signal, n_steps):
     """The core's smooth pieces (t0, t1, free?, start state) with the ground acceleration over each."""
     out = []
@@ -93,17 +109,7 @@ def oracle_peaks(piece_list):
             drift = np.diff(np.concatenate([[0.0], x])) / HEIGHTS
             return np.abs(np.stack([drift, v + vg + ag * s, accel(z)[0] + ag]))
 
-        grid = np.linspace(0.0, tau, 41)
-        values = np.array([quantities(s) for s in grid])  # (41, 3, 3)
-        tops = np.maximum(tops, values.max(axis=0))
-        for q in range(3):
-            for k in range(3):
-                series = values[:, q, k]
-                for i in range(1, 40):
-                    if series[i] >= series[i - 1] and series[i] >= series[i + 1]:
-                        best = minimize_scalar(lambda s: -quantities(s)[q, k], bounds=(grid[i - 1], grid[i + 1]),
-                                               method="bounded", options={"xatol": 1e-14 * max(tau, 1e-300)})
-                        tops[q, k] = max(tops[q, k], -best.fun)
+        tops = np.maximum(tops, sampled_and_refined(quantities, 0.0, tau, 40))
         v_ground += ag * tau
     return tops
 
@@ -184,17 +190,7 @@ def test_the_bare_building_s_maxima_match_the_matrix_exponential():
                 xs, vs = z[:3], z[3:6]
                 drift = np.diff(np.concatenate([[0.0], xs])) / heights
                 return np.abs(np.stack([drift, vs + v_ground + ag * s, Minv @ (F - C @ vs - K @ xs)]))
-            grid = np.linspace(s0, s1, 31)
-            vals = np.array([at(s) for s in grid])
-            tops = np.maximum(tops, vals.max(axis=0))
-            for q in range(3):
-                for k in range(3):
-                    series = vals[:, q, k]
-                    for i in range(1, 30):
-                        if series[i] >= series[i - 1] and series[i] >= series[i + 1]:
-                            best = minimize_scalar(lambda s: -at(s)[q, k], bounds=(grid[i - 1], grid[i + 1]),
-                                                   method="bounded", options={"xatol": 1e-15})
-                            tops[q, k] = max(tops[q, k], -best.fun)
+            tops = np.maximum(tops, sampled_and_refined(at, s0, s1, 30))
             y = expm(A * (s1 - s0)) @ y
             if kick is not None:
                 y[3 + kick[1]] += kick[2] / masses[kick[1]]
