@@ -122,7 +122,7 @@ class Modes:
         self.fastest = s * scale
 
     def weighted_complex(self, i):
-        """weight_k V[i][k] over the kept modes (component i = sum of the real parts of these times
+        """weight_k V_ik over the kept modes (component i = sum of the real parts of these times
         the modal coordinates), kept."""
         cache = self.__dict__.setdefault("_weighted_complex", {})
         if i not in cache:
@@ -130,14 +130,14 @@ class Modes:
         return cache[i]
 
     def weighted_difference(self, i, j):
-        """weight_k |V[i][k] - V[j][k]| over the kept modes (the bounds of z_i - z_j), kept."""
+        """weight_k |V_ik - V_jk| over the kept modes (the bounds of z_i - z_j), kept."""
         cache = self.__dict__.setdefault("_weighted_difference", {})
         if (i, j) not in cache:
             cache[i, j] = [w * abs(a - b) for w, a, b in zip(self.weight, self.V[i], self.V[j])]
         return cache[i, j]
 
     def weighted(self, i):
-        """weight_k |V[i][k]| over the kept modes (the bounds of component i's modal parts), kept."""
+        """weight_k |V_ik| over the kept modes (the bounds of component i's modal parts), kept."""
         cache = self.__dict__.setdefault("_weighted", {})
         if i not in cache:
             cache[i] = [w * abs(v) for w, v in zip(self.weight, self.V[i])]
