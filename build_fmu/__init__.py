@@ -7,8 +7,8 @@ The physics package travels inside each FMU as ``pidamper_physics_<hash>`` and t
 imported the source tree, or ran an older build, can never make the FMU silently run other code
 (pythonfmu imports the model by module name and Python caches modules per process).
 """
-from .builder import build, build_all, build_component, expected_guid, source_hash, sources
+from .builder import build, build_all, expected_guid, source_hash, sources
 from .models import BASE_MODELS, MAX_STOREYS, building_models, check_storeys, family, models
 
-__all__ = ["BASE_MODELS", "MAX_STOREYS", "build", "build_all", "build_component", "building_models", "check_storeys",
+__all__ = ["BASE_MODELS", "MAX_STOREYS", "build", "build_all", "building_models", "check_storeys",
            "expected_guid", "family", "models", "source_hash", "sources"]

@@ -84,11 +84,6 @@ def build(out_dir="dist", model=MODEL_NAME):
     return _build(model, out_dir, docs)
 
 
-def build_component(model, out_dir="dist"):
-    """Build <out_dir>/<model>.fmu (kept for callers of the earlier API: build(out_dir, model))."""
-    return build(out_dir, model)
-
-
 def build_all(out_dir="dist", storeys=()):
     """Build models(storeys) into out_dir; their paths."""
     return [build(out_dir, model) for model in models(storeys)]

@@ -141,7 +141,7 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         """floor[k].x, floor[k].a, storey[k].drift, base_shear, the drift ratios and the running
         maxima (particle_tables.building_outputs)."""
         xs, accs, drifts, shear = c.building_outputs(self.F, self.a_g)
-        ratios, drift_max, v_max, a_max = c.model.peak_outputs(c.x)
+        ratios, drift_max, v_max, a_max = c.model.peak_outputs(drifts)
         return (*xs, *accs, *drifts, shear, *ratios, *drift_max, *v_max, *a_max)
 
     # ---- per-step impact record -------------------------------------------------------

@@ -207,11 +207,12 @@ class BuildingModel(LevelModel):
         acc = [a + ground for a in self._accelerations(x, v, y, u, side, f, ground)]
         return xs, acc, b.drifts(xs), b.base_shear(xs, vs)
 
-    def peak_outputs(self, x):
-        """(storey drift ratios [1] of the current state, and the running maxima: |drift ratio|
-        per storey [1], |absolute velocity| and |absolute acceleration| per floor [m/s, m/s2])."""
+    def peak_outputs(self, drifts):
+        """(storey drift ratios [1] of the storey drifts [m] building_outputs gave, and the running
+        maxima: |drift ratio| per storey [1], |absolute velocity| and |absolute acceleration| per
+        floor [m/s, m/s2])."""
         pk = self.peaks
-        return self.p.building.drift_ratios(self.floors(x, 0.0)[0]), pk.drift, pk.velocity, pk.acceleration
+        return [d / h for d, h in zip(drifts, self.p.building.heights)], pk.drift, pk.velocity, pk.acceleration
 
     def work(self, seg, tau, before, after, fc, psi, e_change):
         """(work of the held loads and the harmonic, work taken by the dashpots) over a piece."""

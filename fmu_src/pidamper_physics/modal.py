@@ -262,11 +262,9 @@ class Motion:
                         p = a * p + ga * om ** j
             per_mode.append(row)
         columns = list(zip(*per_mode))  # per order, the modes' bounds
-        if weighted is not None:
-            pass
-        elif vectors is None:  # the components' rows (weight |V|, kept with the modes)
+        if weighted is None and vectors is None:  # the components' rows (weight |V|, kept with the modes)
             weighted = [m.weighted(i) for i in (range(2 * m.n) if rows is None else rows)]
-        else:  # (weight |V|) first, as the sum always did
+        elif weighted is None:  # (weight |V|) first, as the sum always did
             weighted = [[w * abs(v) for w, v in zip(m.weight, vrow)] for vrow in vectors]
         return [[sum(map(mul, scaled, column)) for column in columns] for scaled in weighted]
 

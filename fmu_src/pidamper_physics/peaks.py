@@ -7,7 +7,7 @@ count, as the end of one piece and the start of the next).  v_g is the ground's 
 integral of the held a_g from rest at the start.
 
 Each piece the motion takes is a closed form f(s), 0 <= s <= tau, whose value and first two
-derivatives the piece gives at any s (`chain`), with a bound B3 on |f'''| over the piece
+derivatives the piece gives at any s (`derivatives`), with a bound B3 on |f'''| over the piece
 (`bounds`).  Between two points a < b, Taylor's theorem bounds f from either end:
 
     sigma f(a + s) <= sigma (f + f' s + f'' s^2 / 2)(a) + B3 s^3 / 6      (and backwards from b),
@@ -16,8 +16,8 @@ so the interval holds nothing above the running maximum once the better of the t
 below it (`_cubic_max`); else a Newton step on f' (the vertex of the nearer end's quadratic)
 proposes the next point, or the interval is halved.  Near a maximum Newton lands on it, and its
 negative curvature then clears the neighbourhood on both sides, so a new peak costs a few
-evaluations.  A quantity whose bound over the whole piece stays below its maximum is not
-evaluated at all.  Accepted excess: REL of the maximum (a peak is exact to that, far below the
+evaluations.  A quantity that the forward cubic from the piece's start clears over the whole
+piece is not evaluated again, nor one that a later point clears for the rest of it.  Accepted excess: REL of the maximum (a peak is exact to that, far below the
 motion's own rounding).
 Plain Python (math): this ships inside the FMU.
 """

@@ -53,8 +53,6 @@ class ShearMotion:
         self.q = [sum(phi[k][r] * m[k] * x0[k] for k in range(n)) for r in range(n)]
         self.qd = [sum(phi[k][r] * m[k] * v0[k] for k in range(n)) for r in range(n)]
         self.peaks = Peaks(building.heights)
-        self._per_mass = ([[c / m[k] for c in row] for k, row in enumerate(building.C)],
-                          [[c / m[k] for c in row] for k, row in enumerate(building.K)])
 
     # ---- floor values ------------------------------------------------------------------
 
@@ -96,30 +94,28 @@ class ShearMotion:
             raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
         phi, m = b.shapes, b.masses
         loads = [sum(phi[k][r] * (forces[k] - m[k] * ground) for k in range(n)) for r in range(n)]
-        held = [forces[k] / m[k] - ground for k in range(n)]  # relative loads per floor mass
         kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0)
         t = self.t
         for t_k, k, j in kicks:
-            self._free(t_k - t, loads, held, ground)
+            self._free(t_k - t, loads, ground)
             t = t_k
             for r in range(n):
                 self.qd[r] += phi[k][r] * j
-        self._free(t_end - t, loads, held, ground)
+        self._free(t_end - t, loads, ground)
         self.t = t_end
 
-    def _free(self, tau, loads, held, ground):
+    def _free(self, tau, loads, ground):
+        """Move the modes over a piece of tau [s] under the modal loads, raising the running maxima
+        along it."""
         q, qd = self.q, self.qd
         for r, mode in enumerate(self.modes):
             mode.start(q[r], qd[r], loads[r])
-        self._take_peaks(max(tau, 0.0), held, ground)
-        if tau <= 0.0:
+        tau = max(tau, 0.0)
+        self.peaks.take(ShearPiece(self, tau), tau, ground)
+        if tau == 0.0:
             return
         for r, mode in enumerate(self.modes):
             q[r], qd[r] = mode.at(tau)
-
-    def _take_peaks(self, tau, held, ground):
-        """Raise the running maxima over the piece [0, tau] the started modes describe."""
-        self.peaks.take(ShearPiece(self, held, tau), tau, ground)
 
     # ---- state ----------------------------------------------------------------------------
 
@@ -148,10 +144,10 @@ class ShearPiece:
     is a damped oscillator under a held load, q'' = p - 2 zeta w q' - w^2 q, so its derivatives
     follow from (q, q') by that recursion."""
 
-    __slots__ = ("motion", "held", "tau")
+    __slots__ = ("motion", "tau")
 
-    def __init__(self, motion, held, tau):
-        self.motion, self.held, self.tau = motion, held, tau
+    def __init__(self, motion, tau):
+        self.motion, self.tau = motion, tau
 
     def _modal(self, s, orders):
         out = []

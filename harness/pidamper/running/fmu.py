@@ -23,8 +23,6 @@ from pathlib import Path
 import fmpy
 from filelock import FileLock
 
-FMU_NAME = "PendulumImpactDamper.fmu"
-
 
 #: environment variable naming the folder find_fmu uses (a shared cache for a cluster, a test session)
 FMU_DIR_VARIABLE = "PIDAMPER_FMU_DIR"

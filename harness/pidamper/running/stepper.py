@@ -91,7 +91,7 @@ class CoreStepper:
             xs, acc, drifts, shear = c.building_outputs(self._input("F"), ground)
             if not found:
                 return shear
-            ratios, drift_max, v_max, a_max = c.model.peak_outputs(c.x)
+            ratios, drift_max, v_max, a_max = c.model.peak_outputs(drifts)
             return {"x": xs, "a": acc, "drift": drifts, "drift_ratio": ratios, "drift_ratio_max": drift_max,
                     "v_abs_max": v_max, "a_abs_max": a_max}[found.group(3)][int(found.group(2)) - 1]
         return {"impacts": c.impacts, "energy": c.energy, "energy_dissipated": c.dissipated,
