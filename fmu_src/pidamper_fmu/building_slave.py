@@ -18,13 +18,17 @@ damped_building_slave.py).
 """
 import uuid
 
-from pythonfmu import Real
+from pythonfmu import Integer, Real
+from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
 from pidamper_physics.params import FLOOR_MASS, MAX_STOREYS, STOREY_HEIGHT, STOREY_STIFFNESS
 from pidamper_physics.shear_motion import ShearMotion, make_building
+from pidamper_physics.storeys import COLLAPSE_DRIFT, GRAVITY, HARDENING, check_damping, check_storeys
+from pidamper_physics.yielding import YieldingMotion
 
 from .adapter import ComponentSlave
+from .common import fmi_text
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
@@ -41,7 +45,19 @@ def tables(n):
            f"stiffness of storey {k}, joining floor {k - 1} to floor {k} (> 0)", False) for k in floors),
         *((f"storey[{k}].h", Real, STOREY_HEIGHT, "m", 0.0, None,
            f"height of storey {k} (> 0): its drift ratio is its drift / h", False) for k in floors),
-        ("zeta_s", Real, 0.0, "1", 0.0, 1.0, "damping ratio of every mode (classical modal damping), [0, 1)", False),
+        ("zeta_s", Real, 0.0, "1", 0.0, 1.0, "damping ratio of every mode (classical modal damping from the elastic "
+                                              "modes, P-Delta included; kept while storeys yield), [0, 1)", False),
+        *((f"storey[{k}].Fy", Real, 0.0, "N", 0.0, None,
+           f"yield force of storey {k} (bilinear, kinematic hardening as OpenSees Steel01; 0 = elastic)", False)
+          for k in floors),
+        *((f"storey[{k}].b", Real, HARDENING, "1", 0.0, 1.0,
+           f"post-yield stiffness ratio of storey {k}, [0, 1) (0 = elastic-perfectly-plastic)", False)
+          for k in floors),
+        ("p_delta", Integer, 0, None, 0, 1, "P-Delta: 0 off, 1 on (geometric stiffness -P_k / h_k of the gravity "
+                                            "load above each storey)", False),
+        ("g", Real, GRAVITY, "m/s2", 0.0, None, "gravitational acceleration of P-Delta's gravity loads (> 0)", False),
+        ("collapse_drift", Real, COLLAPSE_DRIFT, "1", 0.0, 1.0, "storey drift ratio at which the building counts as "
+                                                                 "collapsed, (0, 1]: every output holds from then", False),
     )
     inputs = (
         ("a_g", 0.0, "m/s2", "ground acceleration, held over each step"),
@@ -64,7 +80,18 @@ def tables(n):
            "of an impulse)", True, ()) for k in floors),
         *((f"floor[{k}].a_abs_max", Real, "m/s2", f"largest |absolute acceleration| of floor {k} {located} (its "
            "regular part: an impulse's velocity jump is no acceleration)", True, ()) for k in floors),
-        ("energy", Real, "J", "kinetic and strain energy of the floors (relative motion)", False, ()),
+        *((f"storey[{k}].force", Real, "N", f"force of storey {k}'s bilinear spring (P-Delta and dashpots not "
+           "included)", True, ()) for k in floors),
+        *((f"storey[{k}].plastic_drift", Real, "m", f"drift at which storey {k}'s spring force is zero", True, ())
+          for k in floors),
+        ("energy_hysteretic", Real, "J", "energy dissipated by the storeys' yielding so far", True, ()),
+        ("collapsed", Integer, None, "1 once a storey's drift ratio reached collapse_drift (outputs hold from then)",
+         True, ()),
+        ("energy", Real, "J", "kinetic and strain energy of the floors (relative motion; P-Delta potential "
+                              "included)", False, ()),
+        ("energy_viscous", Real, "J", "energy taken by the dashpots so far", False, ()),
+        ("work_in", Real, "J", "work of the forces, the ground's inertia loads and the impulses so far (relative "
+                               "motion)", False, ()),
         ("base_shear", Real, "N", "force of the building on the ground (storey 1's spring and the dashpots' "
                                   "ground reaction)", False, ()),
     )
@@ -93,10 +120,20 @@ class ShearBuildingSlave(ComponentSlave):
 
     def _build_core(self):
         values, n = self._values, self.STOREYS
-        building = make_building(*([values[pattern.format(k)] for k in range(1, n + 1)]
-                                   for pattern in ("floor[{}].m", "storey[{}].k")),
-                                 values["zeta_s"], [values[f"storey[{k}].h"] for k in range(1, n + 1)])
-        return ShearMotion(building, t0=self._t0)
+        m, k, h, fy, b = ([values[pattern.format(i)] for i in range(1, n + 1)] for pattern in
+                          ("floor[{}].m", "storey[{}].k", "storey[{}].h", "storey[{}].Fy", "storey[{}].b"))
+        make_building(m, k, values["zeta_s"], h)  # the elastic building's own checks first
+        law = check_storeys(k, fy, b, h, m, values["p_delta"], values["g"], values["collapse_drift"])
+        building = make_building(m, k, values["zeta_s"], h, law.geometric)
+        if not law.any_yield:
+            return ShearMotion(building, t0=self._t0)
+        check_damping(law, values["zeta_s"])
+        core = YieldingMotion(building, law, values["collapse_drift"], t0=self._t0)
+        core.on_collapse = self._collapsed
+        return core
+
+    def _collapsed(self, t, storey, reason):
+        self._warn(f"collapsed at t = {t!r} s: {reason}; every output holds its value from then")
 
     def _forces(self):
         values = self._values
@@ -112,8 +149,16 @@ class ShearBuildingSlave(ComponentSlave):
         x, v = core.floors()
         a = core.absolute_accelerations(self._forces(), x, v)
         pk = core.peaks
+        if isinstance(core, ShearMotion):
+            return (*x, *v, *a, *core.b.drift_ratios(x), *pk.drift, *pk.velocity, *pk.acceleration,
+                    *core.storey_forces(), *([0.0] * core.n), 0.0, 0, core.b.energy(x, v), core.viscous(),
+                    core.work_in, core.b.base_shear(x, v))
         return (*x, *v, *a, *core.b.drift_ratios(x), *pk.drift, *pk.velocity, *pk.acceleration,
-                core.b.energy(x, v), core.b.base_shear(x, v))
+                *core.storey_forces(), *core.plastic_drifts(), core.hysteretic, core.collapsed, core.energy(),
+                core.viscous, core.work_in, core.base_shear(self._forces()))
+
+    def _warn(self, text):
+        self.log(fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.warning)
 
 
 def _model(n):

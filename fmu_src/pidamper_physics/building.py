@@ -5,6 +5,9 @@ floor k, floor 0 being the ground.  With x the floor displacements relative to t
 
     M x'' + C x' + K x = -M 1 a_g + f,     M = diag(m_k),
     K = tridiagonal: K[k][k] = k_k + k_(k+1), K[k][k+1] = K[k+1][k] = -k_(k+1),
+
+with k_k less the geometric stiffness P_k / h_k of P-Delta where it is on (P_k the gravity load
+the storey carries, h_k its height; the strain energy then includes the P-Delta potential),
     C = M Phi diag(2 zeta w_r) Phi^T M     (every mode damped at the ratio zeta),
 
 Phi the undamped mode shapes normalised to Phi^T M Phi = I, w_r the natural frequencies
@@ -24,7 +27,7 @@ class ShearBuilding:
     first; heights default to 3 m); zeta [1]: the damping ratio of every mode, 0 <= zeta < 1
     (Params checks them all)."""
 
-    def __init__(self, masses, stiffnesses, zeta=0.0, heights=None):
+    def __init__(self, masses, stiffnesses, zeta=0.0, heights=None, geometric=None):
         n = len(masses)
         if n < 1 or len(stiffnesses) != n:
             raise ValueError("a shear building needs a mass and a stiffness per storey")
@@ -33,7 +36,9 @@ class ShearBuilding:
         self.stiffnesses = [float(k) for k in stiffnesses]
         self.zeta = float(zeta)
         self.heights = [3.0] * n if heights is None else [float(h) for h in heights]
-        ks = self.stiffnesses + [0.0]
+        # P-Delta: the geometric stiffness P_k / h_k [N/m] of each storey, taken off its stiffness
+        self.geometric = [0.0] * n if geometric is None else [float(g) for g in geometric]
+        ks = [k - g for k, g in zip(self.stiffnesses, self.geometric)] + [0.0]
         self.K = [[0.0] * n for _ in range(n)]
         for i in range(n):
             self.K[i][i] = ks[i] + ks[i + 1]
@@ -77,5 +82,5 @@ class ShearBuilding:
         """Kinetic plus strain energy [J] of the floors (relative motion)."""
         n = self.n
         kin = 0.5 * sum(self.masses[i] * v[i] * v[i] for i in range(n))
-        strain = 0.5 * sum(k * d * d for k, d in zip(self.stiffnesses, self.drifts(x)))
+        strain = 0.5 * sum((k - g) * d * d for k, g, d in zip(self.stiffnesses, self.geometric, self.drifts(x)))
         return kin + strain

@@ -19,12 +19,16 @@ keeps the other floors' state in `others` (x_k, then v_k, for k != j), carries i
 the Damper takes (follow) and saves it with the Damper's state (get_state: key "others").  Both the free (N+1)-DOF system and
 the riding N-DOF one are solved in closed form by modes (modal.py).
 """
+import math
+
 from .impact import collide, impact_loss
 from .level_model import LevelModel
 from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work, take_peaks
 from .params import ParameterError, check_finite
 from .peaks import Peaks
+from .storeys import Hysteresis
+from .yielding import StoreyGuards
 
 
 def _per_mass(matrix, masses):
@@ -66,6 +70,70 @@ class BuildingModel(LevelModel):
         self.others = [0.0] * (2 * (n - 1))
         self.peaks = Peaks(b.heights)  # the running maxima (peaks.py), raised along every piece
         self._ground = 0.0  # the held ground acceleration of the segments being built [m/s2]
+        # yielding storeys (storeys.py): their state, each regime's (free, ride) systems, the piece's
+        # hysteretic energy (booked by follow, taken off the dashpots' share by work)
+        self.storeys = None if p.law is None else Hysteresis(p.law, b.heights, p.collapse_drift, max(b.omegas))
+        self._regimes = {}
+        self._hysteretic = 0.0
+
+    # ---- yielding storeys ---------------------------------------------------------------
+
+    @property
+    def collapsed(self):
+        return self.storeys is not None and self.storeys.collapsed
+
+    def _regime(self):
+        """Point free, ride, Kf, Cf, Kr, Cr at the current regime's systems (built once per regime);
+        a regime without modes collapses the building (its reason kept) and keeps the last ones."""
+        key = tuple(self.storeys.regime)
+        systems = self._regimes.get(key)
+        if systems is None:
+            p, j, n = self.p, self.j, self.n
+            b = p.building
+            K = [row + [0.0] for row in self.storeys.stiffness()]
+            K[j][j] += p.m * p.w1 * p.w1
+            K[j][n] -= p.m * p.w1 * p.w1
+            Kf = _per_mass(K, b.masses) + [self.Kf[n]]
+            Kr = _per_mass(self.storeys.stiffness(), self.ride_masses)
+            try:
+                systems = ((Modes(Kf, self.Cf), Kf, self.Cf), (Modes(Kr, self.Cr), Kr, self.Cr), Kf, self.Cf, Kr,
+                           self.Cr)
+            except ModesError as err:
+                systems = f"the regime {key} (storeys elastic 0, yielding +1 / -1) has no modes: {err}"
+            self._regimes[key] = systems
+        if isinstance(systems, str):  # the Damper sees `collapsed` and stops (its clock gives the time)
+            self.storeys.collapse(math.nan, systems)
+            return
+        self.free, self.ride, self.Kf, self.Cf, self.Kr, self.Cr = systems
+
+    def _held(self, masses):
+        """The storeys' held forces per mass [m/s2] on each floor in the current regime (0 if elastic)."""
+        if self.storeys is None:
+            return None
+        return [c / m for c, m in zip(self.storeys.held(), masses)]
+
+    def storey_event(self, guard, x, v, t):
+        """A storey guard's zero at time t [s] (the damper floor at x, v): yield, unload or collapse
+        (returns the collapse reason, else None)."""
+        xs, _ = self.floors(x, v)
+        reason = self.storeys.event(guard, self.p.building.drifts(xs), t)
+        if reason is None:
+            self._regime()
+        return reason
+
+    def _decide(self, x, v):
+        """Regimes after the damper floor's velocity jumped to v."""
+        xs, vs = self.floors(x, v)
+        b = self.p.building
+        if self.storeys.decide(b.drifts(xs), b.drifts(vs)):
+            self._regime()
+
+    def storey_outputs(self, x, v):
+        """(the bilinear springs' forces [N], the drifts of zero spring force [m]) per storey."""
+        d = self.p.building.drifts(self.floors(x, v)[0])
+        if self.storeys is None:
+            return [k * di for k, di in zip(self.p.building.stiffnesses, d)], [0.0] * self.n
+        return self.storeys.forces(d), self.storeys.zero_force_drifts(d)
 
     # ---- state ------------------------------------------------------------------------
 
@@ -82,14 +150,20 @@ class BuildingModel(LevelModel):
         self.others = list(xs[:j]) + list(xs[j + 1:]) + list(vs[:j]) + list(vs[j + 1:])
 
     def follow(self, seg, tau):
-        """The other floors at tau of the piece the Damper takes, and the maxima along it."""
+        """The other floors at tau of the piece the Damper takes, the maxima along it and its
+        hysteretic energy."""
         seg.take_peaks(self.peaks, tau, self._ground)
         self.others = seg.others(tau)
+        if self.storeys is not None:
+            b = self.p.building
+            self._hysteretic = self.storeys.piece(b.drifts(seg.start_floors), b.drifts(seg.floors_at(tau)))
 
     def get_state(self):
         state = super().get_state()
         state["others"] = list(self.others)  # the other floors
         state["peaks"] = self.peaks.get_state()  # the running maxima and the ground's velocity
+        if self.storeys is not None:
+            state["storeys"] = self.storeys.get_state()
         return state
 
     def set_state(self, state):
@@ -99,6 +173,9 @@ class BuildingModel(LevelModel):
         for k, value in enumerate(others):
             check_finite(f"state others[{k}]", value)
         self.peaks.set_state(state.get("peaks"))
+        if self.storeys is not None:
+            self.storeys.set_state(state.get("storeys"))
+            self._regime()
         self.others = [float(v) for v in others]
 
     def displacements(self, x, v, y, u):
@@ -122,7 +199,10 @@ class BuildingModel(LevelModel):
         p = self.p
         xs, vs = self.floors(x, v)
         r = y - x
-        return p.building.energy(xs, vs) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
+        if self.storeys is None:
+            return p.building.energy(xs, vs) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
+        kinetic = 0.5 * sum(mk * vk * vk for mk, vk in zip(p.building.masses, vs))
+        return kinetic + self.storeys.strain(p.building.drifts(xs)) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
 
     # ---- segments -------------------------------------------------------------------
 
@@ -130,6 +210,10 @@ class BuildingModel(LevelModel):
         """Held loads per mass of the free system: -a_g on every floor, F/m_j - a_g on floor j."""
         b = [fc[1]] * (self.n + 1)
         b[self.j] = fc[0]
+        held = self._held(self.p.building.masses)
+        if held is not None:
+            for i, c in enumerate(held):
+                b[i] += c
         return b
 
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
@@ -137,8 +221,9 @@ class BuildingModel(LevelModel):
         self._ground = -fc[1]
         n, j, o = self.n, self.j, self.others
         z0 = o[:j] + [x] + o[j:n - 1] + [y] + o[n - 1:n - 1 + j] + [v] + o[n - 1 + j:] + [u]
-        return BuildingFlight(self.free, z0, self._loads(fc), p.F0 / p.M, p.Omega, psi, T, p.D, always_bound,
-                              (j, n))
+        seg = BuildingFlight(self.free, z0, self._loads(fc), p.F0 / p.M, p.Omega, psi, T, p.D, always_bound,
+                             (j, n))
+        return seg if self.storeys is None else WithStoreys(seg, self.storeys, T, 2)
 
     def stick(self, x, v, side, fc, psi, T):
         p = self.p
@@ -149,10 +234,14 @@ class BuildingModel(LevelModel):
         mr = self.ride_masses[j]
         b = [fc[1]] * n
         b[j] = (mj * fc[0] + p.m * fc[1]) / mr
+        held = self._held(self.ride_masses)
+        if held is not None:
+            b = [bi + c for bi, c in zip(b, held)]
         a = p.F0 / mr
         # N/m = x_j'' + a_g - w1^2 side d = row j of the ride system, plus constants
         contact = ([-k for k in self.Kr[j]], [-c for c in self.Cr[j]], b[j] - p.w1 * p.w1 * side * p.d - fc[1])
-        return ModalStick(self.ride, z0, j, side, p.d, b, a, p.Omega, psi, T, contact)
+        seg = ModalStick(self.ride, z0, j, side, p.d, b, a, p.Omega, psi, T, contact)
+        return seg if self.storeys is None else WithStoreys(seg, self.storeys, T, 1)
 
     def snap(self, x, v, y, u, side):
         return x, v, x - side * self.p.d, u
@@ -160,6 +249,8 @@ class BuildingModel(LevelModel):
     def collide(self, x, v, y, u, side, e):
         mu = self.mu_j
         v1, u1 = collide(v, u, mu, e)
+        if self.storeys is not None:
+            self._decide(x, v1)
         return (x, v1, y, u1), impact_loss(self.p.M, mu, e, v, u), u - v, u1 - v1
 
     # ---- outputs --------------------------------------------------------------------
@@ -184,11 +275,16 @@ class BuildingModel(LevelModel):
             loads = [-ground] * n
             loads[j] = (p.M * f - mj * ground) / mj
             q, dq = xs, vs
+            held = self._held(self.ride_masses)
         else:
             K, C = self.Kf, self.Cf
             loads = [-ground] * (n + 1)
             loads[j] = f - ground
             q, dq = xs + [y], vs + [u]
+            held = self._held(p.building.masses)
+        if held is not None:
+            for i, c in enumerate(held):
+                loads[i] += c
         return [loads[i] - sum(K[i][k] * q[k] for k in range(len(q))) - sum(C[i][k] * dq[k] for k in range(len(q)))
                 for i in range(n)]
 
@@ -205,7 +301,12 @@ class BuildingModel(LevelModel):
         b = self.p.building
         xs, vs = self.floors(x, v)
         acc = [a + ground for a in self._accelerations(x, v, y, u, side, f, ground)]
-        return xs, acc, b.drifts(xs), b.base_shear(xs, vs)
+        if self.storeys is None:
+            return xs, acc, b.drifts(xs), b.base_shear(xs, vs)
+        drifts = b.drifts(xs)
+        n, C = self.n, b.C
+        shear = sum(self.storeys.restoring(drifts)) + sum(C[i][k] * vs[k] for i in range(n) for k in range(n))
+        return xs, acc, drifts, shear
 
     def peak_outputs(self, drifts):
         """(storey drift ratios [1] of the storey drifts [m] building_outputs gave, and the running
@@ -223,7 +324,7 @@ class BuildingModel(LevelModel):
         held = p.M * (fc[0] + ground) * (after[0] - before[0]) - ground * (
             sum(m * (x1 - x0) for m, x0, x1 in zip(b.masses, xs0, xs1)) + p.m * (after[2] - before[2]))
         w = held + p.M * harmonic_work(seg, tau, p.F0 / p.M, p.Omega, psi, _floor_velocity)
-        return w, w - e_change
+        return w, w - e_change - self._hysteretic
 
 
 def _floor_velocity(seg, tau):
@@ -287,3 +388,31 @@ class BuildingFlight(ModalFlight):
         if i == 0:
             return self.D - g, -g1, -g2, -g3
         return self.D + g, g1, g2, g3
+
+
+class WithStoreys:
+    """A particle segment (BuildingFlight, ModalStick) of a yielding building with the storeys'
+    guards appended (yielding.StoreyGuards on the same motion): guards 0..contacts-1 are the
+    particle's, the rest the storeys'.  Everything else is the particle segment's."""
+
+    reach = math.inf
+    __slots__ = ("seg", "storey", "contacts", "bounds", "noise", "growth", "clear")
+
+    def __init__(self, seg, storeys, T, contacts):
+        self.seg, self.contacts = seg, contacts
+        self.storey = guards = StoreyGuards(storeys, seg.motion, T)
+        self.bounds = tuple(map(max, seg.bounds, guards.bounds))
+        self.noise = tuple(map(max, seg.noise, guards.noise))
+        self.growth = max(seg.growth, guards.growth)
+        self.clear = seg.clear and guards.clear
+
+    def __getattr__(self, name):
+        return getattr(self.seg, name)
+
+    def values(self, tau):
+        return tuple(self.seg.values(tau)) + tuple(self.storey.values(tau))
+
+    def derivs(self, tau, i):
+        if i < self.contacts:
+            return self.seg.derivs(tau, i)
+        return self.storey.derivs(tau, i - self.contacts)

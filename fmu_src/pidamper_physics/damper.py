@@ -94,6 +94,7 @@ class Damper(EventDriven):
         self.energy = self._energy()
         self.energy0 = self.energy
         self.on_impact = None  # optional callback(t, side, rel_before, rel_after, loss)
+        self.on_collapse = None  # optional callback(t, reason): a yielding building collapsed
         # longest segment: one period of the fastest motion keeps trig arguments (and
         # so rounding) small and the derivative bounds tight
         self._max_span = 2.0 * math.pi / model.fastest
@@ -114,6 +115,9 @@ class Damper(EventDriven):
             check_finite("F", force)
             check_finite("a_g", ground)
             check_finite("t_end", t_end)
+        if self.halted:  # a collapsed building holds its state; the clock goes on
+            self.t, self.t_lo = max(t_end, self.t), 0.0
+            return
         self._run(t_end, (force / self.p.M - ground, -ground), observe)  # loads per mass: primary, particle
         check = self.x + self.v + self.y + self.u + self.energy + self.work_in
         if check - check != 0.0:  # a value overflowed: refuse rather than answer inf or nan
@@ -223,10 +227,27 @@ class Damper(EventDriven):
         check_state(state)
         self.model.set_state(state)  # checks its own keys before it changes anything
         self._may_coast = True
+        self.halted = bool(self.model.collapsed)
         for k in STATE_KEYS:
             setattr(self, k, state.get(k, 0.0) if k == "t_lo" else state[k])
 
     # ---- internals --------------------------------------------------------------------
+
+    def _own_event(self, seg, guard):
+        """A storey's yield, unload or collapse (a yielding building)."""
+        self.model.storey_event(seg.storey.guards[guard - seg.contacts], self.x, self.v, self.t)
+        self._halt_if_collapsed()
+
+    def _halt_if_collapsed(self):
+        """Stop the motion once the building collapsed (a storey's limit, or a regime without modes)."""
+        model = self.model
+        if model.collapsed and not self.halted:
+            self.halted = True
+            storeys = model.storeys
+            if storeys.collapse_time != storeys.collapse_time:  # NaN: the model did not know the time
+                storeys.collapse_time = self.t
+            if self.on_collapse is not None:
+                self.on_collapse(self.t, storeys.collapse_reason)
 
     def _energy(self):
         return self.model.energy(self.x, self.v, self.y, self.u)
@@ -320,6 +341,7 @@ class Damper(EventDriven):
         self.x, self.v, self.y, self.u = state
         self.impacts += 1
         self._account(loss)
+        self._halt_if_collapsed()
         if self.on_impact is not None:
             self.on_impact(self.t, side, before, after, loss)
 
@@ -331,6 +353,7 @@ class Damper(EventDriven):
             return
         self.x, self.v, self.y, self.u = state
         self._account(loss)
+        self._halt_if_collapsed()
         if counted:
             self.impacts += 1
             if self.on_impact is not None:

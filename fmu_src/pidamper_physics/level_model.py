@@ -34,6 +34,8 @@ class LevelModel:
     work = None
     #: follow(seg, tau): carry the level's own state along a piece the Damper takes, or None
     follow = None
+    #: a yielding building that collapsed holds its state (building_level.BuildingModel)
+    collapsed = False
 
     def __init__(self, p):
         self.p = p

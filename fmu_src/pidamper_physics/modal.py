@@ -25,6 +25,9 @@ from operator import mul
 
 from . import eigen
 
+#: |lam| / the fastest |lam| below which a mode is secular (a storey of zero tangent): its held
+#: load's part is beta tau phi1(lam tau), never beta / lam (an elastic building never has one)
+SECULAR = 1e-6
 _SERIES = 0.25  # |w| below which phi1 is summed as a series (14 terms: below 1e-17)
 
 
@@ -71,6 +74,8 @@ class Modes:
         # q') have like scales whatever the units (a small g made V ill-scaled: 2e-4 of x lost at
         # g = 1e-15 m/s2); lam, V and W are scaled back at the end
         s = math.sqrt(max(abs(k) for row in K for k in row))
+        if s == 0.0:  # no stiffness at all (a yielding storey of zero tangent): the damping's scale
+            s = max(abs(c) for row in C for c in row) or 1.0
         K = [[k / (s * s) for k in row] for row in K]
         C = [[c / s for c in row] for row in C]
         uncoupled = n == 2 and K[0][1] == K[1][0] == C[0][1] == C[1][0] == 0.0
@@ -120,6 +125,10 @@ class Modes:
         self.V = [[V[i][k] * (s if i >= n else 1.0) for k in keep] for i in range(2 * n)]
         self.W = [[inv_rows[k][j] / (s if j >= n else 1.0) for j in range(2 * n)] for k in keep]
         self.fastest = s * scale
+        # modes of lam ~ 0 (a zero tangent stiffness), and the growth rate of the fastest growing
+        # one (Re lam > 0: a negative tangent) [1/s], beyond rounding of the spectrum
+        self.secular = [k for k, lam in enumerate(self.lam) if abs(lam) <= SECULAR * self.fastest]
+        self.growth_rate = max([lam.real for lam in self.lam if lam.real > 1e-9 * self.fastest], default=0.0)
 
     def weighted_complex(self, i):
         """weight_k V_ik over the kept modes (component i = sum of the real parts of these times
@@ -157,9 +166,12 @@ class Modes:
 
 
 class Motion:
-    """One segment of q'' + C q' + K q = b + f sin(Omega tau + psi) from z0 = (q0, q0')."""
+    """One segment of q'' + C q' + K q = b + f sin(Omega tau + psi) from z0 = (q0, q0').
 
-    __slots__ = ("modes", "eta0", "coef", "const", "gp", "gm", "om", "forced", "psi", "gamma")
+    Modes may grow (Re lam > 0: a negative tangent stiffness) or be secular (lam ~ 0: a zero
+    tangent; Modes.secular): their parts stay exact and the bounds account for the growth."""
+
+    __slots__ = ("modes", "eta0", "coef", "const", "gp", "gm", "om", "forced", "psi", "gamma", "beta", "secular")
 
     def __init__(self, modes, z0, b, f=None, om=0.0, psi=0.0):
         self.modes = modes
@@ -167,14 +179,21 @@ class Motion:
         self.om, self.psi = om, psi
         self.forced = f is not None and any(fi != 0.0 for fi in f)
         self.eta0, self.coef, self.const, self.gp, self.gm, self.gamma = [], [], [], [], [], []
+        self.secular = secular = modes.secular
+        self.beta = []
         eip = cmath.exp(1j * psi)
-        for lam, w in zip(modes.lam, modes.W):
+        for k, (lam, w) in enumerate(zip(modes.lam, modes.W)):
             eta0 = sum(w[i] * z0[i] for i in range(2 * n))
             beta = sum(w[n + i] * b[i] for i in range(n))
-            c = beta / lam
             self.eta0.append(eta0)
-            self.coef.append(eta0 + c)
-            self.const.append(-c)
+            if secular and k in secular:  # no constant part: beta tau phi1(lam tau) in modal()
+                self.beta.append(beta)
+                self.coef.append(None)
+                self.const.append(0.0)
+            else:
+                c = beta / lam
+                self.coef.append(eta0 + c)
+                self.const.append(-c)
             if self.forced:
                 gamma = sum(w[n + i] * f[i] for i in range(n))
                 self.gamma.append(gamma)
@@ -187,9 +206,13 @@ class Motion:
         if self.forced:
             sp = 1j * self.om
             ep, em = cmath.exp(sp * tau), cmath.exp(-sp * tau)
+        secular = self.secular
         for k, lam in enumerate(self.modes.lam):
             el, el_m1 = exp_pair(lam * tau)
-            eta = el * self.eta0[k] - self.const[k] * el_m1
+            if secular and k in secular:
+                eta = el * self.eta0[k] + self.beta[secular.index(k)] * tau * phi1(lam * tau)
+            else:
+                eta = el * self.eta0[k] - self.const[k] * el_m1
             if self.forced:
                 eta += self.gp[k] * _spread(sp, lam, tau, ep, el) + self.gm[k] * _spread(-sp, lam, tau, em, el)
             out.append(eta)
@@ -218,6 +241,8 @@ class Motion:
         om = self.om
         levels = [eta]
         d = [lam * e - k * lam for lam, e, k in zip(m.lam, eta, self.const)]  # lam eta + beta, beta = -lam const
+        for i, k in enumerate(self.secular):
+            d[k] += self.beta[i]
         if self.forced:
             d = [x + g * s for x, g in zip(d, self.gamma)]
         levels.append(d)
@@ -248,9 +273,14 @@ class Motion:
         m = self.modes
         om = self.om
         per_mode = []
+        secular = self.secular
         for k, lam in enumerate(m.lam):
             a = abs(lam)
-            row = [abs(self.coef[k]) * a ** j for j in range(orders)]
+            if secular and k in secular:  # eta^(j) = lam^(j-1) exp(lam tau) (lam eta0 + beta), j >= 1
+                slope = abs(lam * self.eta0[k] + self.beta[secular.index(k)])
+                row = [abs(self.eta0[k]) + T * slope] + [slope * a ** (j - 1) for j in range(1, orders)]
+            else:
+                row = [abs(self.coef[k]) * a ** j for j in range(orders)]
             if self.forced:
                 for g, s in ((self.gp[k], 1j * om), (self.gm[k], -1j * om)):
                     ga = abs(g)
@@ -260,6 +290,9 @@ class Motion:
                         steady = ga * (om ** j + a ** j) / gap if gap > 0.0 else math.inf
                         row[j] += min(p, steady)
                         p = a * p + ga * om ** j
+            if lam.real > 1e-9 * m.fastest:  # a growing mode (beyond rounding): |exp(lam tau)| <= exp(Re lam T) on [0, T]
+                grow = math.exp(lam.real * T)
+                row = [r * grow for r in row]
             per_mode.append(row)
         columns = list(zip(*per_mode))  # per order, the modes' bounds
         if weighted is None and vectors is None:  # the components' rows (weight |V|, kept with the modes)

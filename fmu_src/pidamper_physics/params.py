@@ -40,6 +40,10 @@ FLOOR_MASS = 1.0e5
 STOREY_STIFFNESS = 8.0e7
 #: default storey height [m] (storey[k].h: the drift ratio is the drift / h)
 STOREY_HEIGHT = 3.0
+#: default post-yield stiffness ratio of a yielding storey, and the drift ratio at which a yielding
+#: building counts as collapsed (storeys.py)
+HARDENING = 0.02
+COLLAPSE_DRIFT = 0.10
 #: default initial state [rad, rad/s]: particle at rest, primary started by a velocity
 INITIAL_DEFAULTS = {"theta_0": 0.0, "theta_dot_0": 0.5, "alpha_0": 0.0, "alpha_dot_0": 0.0}
 
@@ -79,13 +83,15 @@ class Params:
     """Validated physical parameters plus the derived quantities the solver uses."""
 
     NAMES = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi", "fidelity",
-             "zeta_s", "zeta_p", "storeys", "damper_floor", "floor_m", "storey_k", "storey_h")
+             "zeta_s", "zeta_p", "storeys", "damper_floor", "floor_m", "storey_k", "storey_h", "storey_Fy", "storey_b",
+             "p_delta", "collapse_drift")
 
     def __init__(self, g=DEFAULTS["g"], M=DEFAULTS["M"], mu=DEFAULTS["mu"], L2=DEFAULTS["L2"],
                  FR=DEFAULTS["FR"], d=DEFAULTS["d"], d_angle=DEFAULTS["d_angle"], e=DEFAULTS["e"],
                  contact_form=DEFAULTS["contact_form"], F0=DEFAULTS["F0"], Omega=DEFAULTS["Omega"],
                  phi=DEFAULTS["phi"], fidelity=DEFAULTS["fidelity"], zeta_s=DEFAULTS["zeta_s"],
-                 zeta_p=DEFAULTS["zeta_p"], storeys=0, damper_floor=0, floor_m=None, storey_k=None, storey_h=None):
+                 zeta_p=DEFAULTS["zeta_p"], storeys=0, damper_floor=0, floor_m=None, storey_k=None, storey_h=None,
+                 storey_Fy=None, storey_b=None, p_delta=0, collapse_drift=COLLAPSE_DRIFT):
         for name in ("g", "M", "L2", "FR", "d", "d_angle"):
             _positive(name, locals()[name])
         if check_finite("mu", mu) < 0.0:
@@ -107,6 +113,10 @@ class Params:
         self.floor_m = _per_storey("floor_m", floor_m, FLOOR_MASS)
         self.storey_k = _per_storey("storey_k", storey_k, STOREY_STIFFNESS)
         self.storey_h = _per_storey("storey_h", storey_h, STOREY_HEIGHT)
+        self.storey_Fy = _per_storey("storey_Fy", storey_Fy, 0.0)
+        self.storey_b = _per_storey("storey_b", storey_b, HARDENING)
+        self.p_delta, self.collapse_drift = p_delta, collapse_drift
+        self.law = None  # the storeys' law (storeys.Storeys) of a building
         if self.storeys:
             self._set_building()
         else:
@@ -149,6 +159,15 @@ class Params:
         self.floor = (self.damper_floor or n) - 1  # index of the damper floor
         self.M = self.building.masses[self.floor]
         self.m = self.mu * self.building.total_mass
+        from .storeys import check_damping, check_storeys  # storeys.py builds on this module
+        law = check_storeys(self.storey_k[:n], self.storey_Fy[:n], self.storey_b[:n], self.storey_h[:n],
+                            self.floor_m[:n], self.p_delta, self.g, self.collapse_drift, (self.floor, self.m))
+        if self.p_delta:  # the building of K - K_G: its modes, damping and first frequency
+            self.building = check_building(self.floor_m[:n], self.storey_k[:n], self.zeta_s, self.storey_h[:n],
+                                           law.geometric)
+        if law.any_yield:
+            check_damping(law, self.zeta_s if self.fidelity else 0.0)
+            self.law = law
         self.w2 = self.building.w_1
         self.w1 = self.FR * self.w2
         self.L1 = self.g / (self.w1 * self.w1) if self.w1 > 0.0 else math.inf
@@ -164,18 +183,21 @@ class Params:
         kwargs = {k: v for k, v in values.items() if k in cls.NAMES}
         for key, pattern, default in (("floor_m", "floor[{}].m", FLOOR_MASS),
                                       ("storey_k", "storey[{}].k", STOREY_STIFFNESS),
-                                      ("storey_h", "storey[{}].h", STOREY_HEIGHT)):
+                                      ("storey_h", "storey[{}].h", STOREY_HEIGHT),
+                                      ("storey_Fy", "storey[{}].Fy", 0.0),
+                                      ("storey_b", "storey[{}].b", HARDENING)):
             listed = [values.get(pattern.format(k)) for k in range(1, MAX_STOREYS + 1)]
             if any(v is not None for v in listed):
                 kwargs[key] = [default if v is None else v for v in listed]
         return cls(**kwargs)
 
 
-def check_building(masses, stiffnesses, zeta=0.0, heights=None):
+def check_building(masses, stiffnesses, zeta=0.0, heights=None, geometric=None):
     """The ShearBuilding of floor masses [kg], storey stiffnesses [N/m] and storey heights [m]
     (floor / storey 1 first; heights default to STOREY_HEIGHT) with every mode at damping ratio
     zeta, once they are checked: a ParameterError names the value (storeys, floor[k].m, storey[k].k,
-    storey[k].h, zeta_s) and the rule."""
+    storey[k].h, zeta_s) and the rule.  geometric: P-Delta's P_k / h_k [N/m] (storeys.check_storeys
+    checks it)."""
     n = len(masses)
     heights = [STOREY_HEIGHT] * n if heights is None else list(heights)
     if not 1 <= n <= MAX_STOREYS or len(stiffnesses) != n or len(heights) != n:
@@ -189,7 +211,7 @@ def check_building(masses, stiffnesses, zeta=0.0, heights=None):
     zeta = check_finite("zeta_s", zeta)
     if not 0.0 <= zeta < 1.0 or 1.0 - zeta * zeta < ZETA_GAP:
         raise ParameterError("zeta_s", zeta, f"it must lie in [0, 1) with 1 - zeta_s^2 >= {ZETA_GAP:g}")
-    return ShearBuilding(masses, stiffnesses, zeta, heights)
+    return ShearBuilding(masses, stiffnesses, zeta, heights, geometric)
 
 
 def _per_storey(name, values, default):

@@ -53,6 +53,8 @@ class ShearMotion:
         self.q = [sum(phi[k][r] * m[k] * x0[k] for k in range(n)) for r in range(n)]
         self.qd = [sum(phi[k][r] * m[k] * v0[k] for k in range(n)) for r in range(n)]
         self.peaks = Peaks(building.heights)
+        self.work_in = 0.0  # work of the held loads (relative frame) and the impulses [J]
+        self.energy0 = self.energy()
 
     # ---- floor values ------------------------------------------------------------------
 
@@ -96,13 +98,26 @@ class ShearMotion:
         loads = [sum(phi[k][r] * (forces[k] - m[k] * ground) for k in range(n)) for r in range(n)]
         kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0)
         t = self.t
+        q0 = list(self.q)
         for t_k, k, j in kicks:
             self._free(t_k - t, loads, ground)
             t = t_k
+            before = sum(phi[k][r] * self.qd[r] for r in range(n))
             for r in range(n):
                 self.qd[r] += phi[k][r] * j
+            self.work_in += 0.5 * j * (before + before + j / m[k])
         self._free(t_end - t, loads, ground)
         self.t = t_end
+        # the held loads' work: sum_k f_k dx_k = sum_r (Phi^T f)_r dq_r
+        self.work_in += sum(p * (b - a) for p, a, b in zip(loads, q0, self.q))
+
+    def viscous(self):
+        """Energy the dashpots took so far [J]: E(0) + work_in - E (nothing else dissipates)."""
+        return self.energy0 + self.work_in - self.energy()
+
+    def storey_forces(self):
+        """Force of each storey's spring, k_k times its drift [N] (P-Delta not included)."""
+        return [k * d for k, d in zip(self.b.stiffnesses, self.b.drifts(self.floors()[0]))]
 
     def _free(self, tau, loads, ground):
         """Move the modes over a piece of tau [s] under the modal loads, raising the running maxima
@@ -120,13 +135,15 @@ class ShearMotion:
     # ---- state ----------------------------------------------------------------------------
 
     def get_state(self):
-        return {"t": self.t, "q": list(self.q), "qd": list(self.qd), "peaks": self.peaks.get_state()}
+        return {"t": self.t, "q": list(self.q), "qd": list(self.qd), "peaks": self.peaks.get_state(),
+                "work_in": self.work_in}
 
     def set_state(self, state):
-        if not isinstance(state, dict) or set(state) != {"t", "q", "qd", "peaks"}:
+        if not isinstance(state, dict) or set(state) != {"t", "q", "qd", "peaks", "work_in"}:
             raise ParameterError("state", state if not isinstance(state, dict) else sorted(state),
-                                 "it must be the dict ShearMotion.get_state writes (keys t, q, qd, peaks)")
+                                 "it must be the dict ShearMotion.get_state writes (keys t, q, qd, peaks, work_in)")
         check_finite("state t", state["t"])
+        work_in = check_finite("state work_in", state["work_in"])
         for key in ("q", "qd"):
             values = state[key]
             if not isinstance(values, list) or len(values) != self.n:
@@ -134,6 +151,7 @@ class ShearMotion:
             for k, value in enumerate(values):
                 check_finite(f"state {key}[{k}]", value)
         self.peaks.set_state(state["peaks"])
+        self.work_in = work_in
         self.t = float(state["t"])
         self.q = [float(v) for v in state["q"]]
         self.qd = [float(v) for v in state["qd"]]

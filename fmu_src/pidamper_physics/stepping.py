@@ -129,7 +129,15 @@ class EventDriven:
                 continue
             tau, kind, guard = event
             self._move(seg, tau, t_end if tau >= horizon else None, loads, observe)
-            ready = self._handle(kind, 1 - 2 * guard, loads, min(t_end - self.t, self._max_span))
+            if guard >= getattr(seg, "contacts", guard + 1):  # a guard of the model's own (a storey's)
+                ready = None
+                self._switch(self.mode, self.side)
+                self._own_event(seg, guard)
+            else:
+                ready = self._handle(kind, 1 - 2 * guard, loads, min(t_end - self.t, self._max_span))
+            if self.halted:  # the model stops moving (a building's collapse); the clock goes on
+                self.t, self.t_lo = t_end, 0.0
+                break
         self.pieces = pieces
 
     def _tick(self, tau, t_end):
@@ -144,6 +152,14 @@ class EventDriven:
         return t_end, lo + (s - t_end)
 
     # ---- events ---------------------------------------------------------------------------
+
+    #: set by a model whose motion ends (a collapsed building): the loop stops at once
+    halted = False
+
+    def _own_event(self, seg, guard):
+        """A zero of a guard beyond the contacts' (a model with its own events overrides this; it
+        sets `halted` when its motion ends)."""
+        raise NotImplementedError(f"{type(self).__name__} has no guards beyond its contacts")
 
     def _switch(self, mode, side):
         self.mode, self.side, self.fresh = mode, side, True

@@ -1,0 +1,334 @@
+"""A shear building with bilinear storeys (storeys.py), stepped exactly from event to event.
+
+With x the floor displacements relative to the ground [m], storey drifts delta_k = x_k - x_(k-1):
+
+    M x'' + C x' + sum_k e_k F_k(delta_k) = f - M 1 a_g,      (e_k: +1 on floor k, -1 on floor k - 1)
+
+C the classical modal damping of the elastic building (P-Delta included: building.ShearBuilding),
+kept while storeys yield.  Between events every storey is in one regime (storeys.py: elastic,
+yielding up or down), so the system is linear, M x'' + C x' + K_t x = f - M 1 a_g - sum e_k c_k,
+and moves in the closed form of that regime's modes (modal.Modes / Motion: complex modes, as C is
+not proportional to K_t; zero tangents move secularly, negative ones grow), each regime's modes
+computed once and kept.  Its guards (events.locate finds their first zero, exactly):
+
+- an elastic storey reaching its yield surface: Fy/k -+ (delta - delta_p) = 0 (it yields);
+- a yielding storey's drift velocity reversing: s delta' = 0 (it unloads, delta_p held from then);
+- a storey's drift ratio reaching the collapse limit: theta_c h -+ delta = 0 (the building
+  collapses: the state, the maxima and the bookkeeping hold from that instant on).
+
+An impulse J [N s] on floor k (a host's impact) jumps v_k by J / m_k; the regimes are decided
+again at once (a yielding storey whose drift velocity reverses unloads at that instant).
+
+Bookkeeping: `work_in` (the held loads' work, relative frame, and the impulses'), `hysteretic`
+((1 - b) Fy |d delta_p| of the yielding pieces, exact) and `viscous` (what the dashpots took over
+each piece: its work less its hysteretic energy and its change of E) close the balance
+E(0) + work_in = E + viscous + hysteretic, E the kinetic and strain energy (P-Delta potential
+included: storeys.Storeys.strain); the tests check the hysteretic and viscous parts each against
+an independent integration.  Running maxima as in shear_motion (peaks.py).
+Plain Python (math): this ships inside the FMU.
+"""
+import math
+
+from .events import locate
+from .modal import Modes, ModesError, Motion
+from .params import ParameterError, check_finite
+from .peaks import Peaks
+from .segments import TOLERANCE
+from .storeys import Hysteresis
+
+#: most pieces one advance() may take (each an event or a span): a bound on a call's work
+MAX_PIECES = 100000
+
+
+class YieldingMotion:
+    """A shear building with bilinear storeys (see the module doc), at rest at t0.
+
+    building: building.ShearBuilding (masses, elastic stiffnesses, heights, P-Delta's geometric
+    stiffness and the damping from its elastic modes); law: storeys.Storeys (the same k and
+    geometric stiffness, the yield forces and hardening ratios); collapse_drift [1]: the drift
+    ratio at which the building counts as collapsed."""
+
+    def __init__(self, building, law, collapse_drift, t0=0.0):
+        self.b = building
+        self.n = n = building.n
+        self.t = check_finite("start time", t0)
+        self.x, self.v = [0.0] * n, [0.0] * n
+        self._max_span = 2.0 * math.pi / max(building.omegas)
+        self.storeys = Hysteresis(law, building.heights, collapse_drift, max(building.omegas))
+        self.fresh = False
+        self.work_in = self.viscous = 0.0
+        self.frozen = None  # (absolute accelerations, base shear) at the collapse instant
+        self.peaks = Peaks(building.heights)
+        self._systems = {}  # regime -> Modes, or the reason it has none
+        self._c = [[c / m for c in row] for row, m in zip(building.C, building.masses)]
+        self.energy0 = self.energy()
+        self.pieces = 0
+        self.on_collapse = None  # optional callback(t, reason)
+
+    # ---- floor values ------------------------------------------------------------------
+
+    @property
+    def collapsed(self):
+        return self.storeys.collapsed
+
+    @property
+    def hysteretic(self):
+        return self.storeys.hysteretic
+
+    def floors(self):
+        """(x, v): floor displacements and velocities relative to the ground [m, m/s]."""
+        return list(self.x), list(self.v)
+
+    def drifts(self, x=None):
+        x = self.x if x is None else x
+        return [x[k] - (x[k - 1] if k else 0.0) for k in range(self.n)]
+
+    def storey_forces(self):
+        """The bilinear springs' forces [N] (P-Delta and dashpots not included), storey 1 first."""
+        return self.storeys.forces(self.drifts())
+
+    def plastic_drifts(self):
+        """Per storey the drift at which its spring's force is zero [m]."""
+        return self.storeys.zero_force_drifts(self.drifts())
+
+    def _restoring(self):
+        """Per floor the storeys' and dashpots' force on it [N]."""
+        C, n, v = self.b.C, self.n, self.v
+        r = self.storeys.restoring(self.drifts())
+        return [r[i] + sum(C[i][j] * v[j] for j in range(n)) for i in range(n)]
+
+    def absolute_accelerations(self, forces, x=None, v=None):
+        """x_k'' + a_g [m/s2] of every floor under the forces [N] (held from the collapse instant)."""
+        if self.frozen is not None:
+            return list(self.frozen[0])
+        return [(f - r) / m for f, r, m in zip(forces, self._restoring(), self.b.masses)]
+
+    def base_shear(self, forces=None):
+        """Force of the building on the ground [N]: the sum over the floors of the storeys' and
+        dashpots' forces (held from the collapse instant)."""
+        if self.frozen is not None:
+            return self.frozen[1]
+        return sum(self._restoring())
+
+    def energy(self, x=None, v=None):
+        """Kinetic and strain energy [J] (relative motion; P-Delta potential included)."""
+        x = self.x if x is None else x
+        v = self.v if v is None else v
+        kin = 0.5 * sum(m * u * u for m, u in zip(self.b.masses, v))
+        return kin + self.storeys.strain(self.drifts(x))
+
+    # ---- stepping -------------------------------------------------------------------------
+
+    def advance(self, t_end, forces, ground=0.0, impulses=()):
+        """Move to t_end [s] under the held floor forces [N] and ground acceleration [m/s2];
+        `impulses`: (time, floor index 0..N-1, J [N s]), clamped into [t, t_end]."""
+        total = t_end + ground + sum(forces)
+        if total - total != 0.0:
+            check_finite("t_end", t_end)
+            check_finite("a_g", ground)
+            for k, f in enumerate(forces):
+                check_finite(f"F[{k + 1}]", f)
+        if t_end < self.t:
+            raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
+        self.pieces = 0
+        kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0)
+        for t_k, k, j in kicks:
+            self._run(t_k, forces, ground)
+            self._kick(k, j)
+        self._run(t_end, forces, ground)
+
+    def _run(self, t_stop, forces, ground):
+        while self.t < t_stop:
+            if self.collapsed:
+                self.peaks.v_ground += ground * (t_stop - self.t)
+                self.t = t_stop
+                return
+            self.pieces += 1
+            if self.pieces > MAX_PIECES:
+                raise ParameterError("step", t_stop - self.t, f"it needed more than {MAX_PIECES} pieces by "
+                                     f"t = {self.t!r} s: take shorter communication steps")
+            modes = self._modes()
+            if isinstance(modes, str):
+                self._collapse(modes, forces)
+                continue
+            span = min(t_stop - self.t, self._max_span)
+            if modes.growth_rate > 0.0:  # a growing regime: its bounds grow at most e-fold over a piece
+                span = min(span, 1.0 / modes.growth_rate)
+            motion = Motion(modes, self.x + self.v, self._loads(forces, ground))
+            guards = StoreyGuards(self.storeys, motion, span)
+            event = locate(guards, span, self.fresh)
+            tau = span if event is None else event[0]
+            self._move(motion, tau, forces, ground)
+            self.t = t_stop if event is None and span == t_stop - self.t else self.t + tau
+            if event is not None:
+                self.fresh = True
+                reason = self.storeys.event(guards.guards[event[2]], self.drifts(), self.t)
+                if reason is not None:
+                    self._collapse(reason, forces)
+
+    def _modes(self):
+        """The Modes of the current regime (per mass), once per regime; a string if it has none."""
+        key = tuple(self.storeys.regime)
+        modes = self._systems.get(key)
+        if modes is None:
+            K = [[k / m for k in row] for row, m in zip(self.storeys.stiffness(), self.b.masses)]
+            try:
+                modes = Modes(K, self._c)
+            except ModesError as err:
+                modes = f"the regime {key} (storeys elastic 0, yielding +1 / -1) has no modes: {err}"
+            self._systems[key] = modes
+        return modes
+
+    def _loads(self, forces, ground):
+        """Held loads per mass [m/s2]: (F_k + the storeys' held forces) / m_k - a_g."""
+        return [(f + c) / m - ground for f, c, m in zip(forces, self.storeys.held(), self.b.masses)]
+
+    def _move(self, motion, tau, forces, ground):
+        """Take the state at tau of the piece; book its work, hysteretic and dashpot energy and
+        raise the maxima along it."""
+        n = self.n
+        self.peaks.take(RegimePiece(motion, n, tau), tau, ground)
+        if tau <= 0.0:
+            return
+        x0, d0, e0 = self.x, self.drifts(), self.energy()
+        z = motion.state(tau)
+        self.x, self.v = z[:n], z[n:]
+        if not all(map(math.isfinite, z)):
+            raise ParameterError("a_g, F", (ground, forces), f"the motion left the range of float arithmetic by "
+                                 f"t = {self.t!r} s")
+        work = sum((f - m * ground) * (b - a) for f, m, a, b in zip(forces, self.b.masses, x0, self.x))
+        hysteretic = self.storeys.piece(d0, self.drifts())
+        self.work_in += work
+        self.viscous += work - hysteretic - (self.energy() - e0)  # what the dashpots took
+        self.fresh = False
+
+    def _collapse(self, reason, forces):
+        self.frozen = (self.absolute_accelerations(forces), self.base_shear())
+        self.storeys.collapse(self.t, reason)
+        if self.on_collapse is not None:
+            self.on_collapse(self.t, reason)
+
+    def _kick(self, k, j):
+        """Impulse j [N s] on floor k now; the regimes decided again."""
+        if self.collapsed:
+            return
+        before = self.v[k]
+        self.v[k] += j / self.b.masses[k]
+        self.work_in += 0.5 * j * (before + self.v[k])
+        if self.storeys.decide(self.drifts(), self.drifts(self.v)):
+            self.fresh = True
+
+    # ---- state ----------------------------------------------------------------------------
+
+    _KEYS = ("t", "x", "v", "fresh", "work_in", "viscous", "frozen", "peaks", "storeys")
+
+    def get_state(self):
+        return {"t": self.t, "x": list(self.x), "v": list(self.v), "fresh": self.fresh, "work_in": self.work_in,
+                "viscous": self.viscous, "frozen": None if self.frozen is None else [list(self.frozen[0]),
+                                                                                     self.frozen[1]],
+                "peaks": self.peaks.get_state(), "storeys": self.storeys.get_state()}
+
+    def set_state(self, state):
+        if not isinstance(state, dict) or set(state) != set(self._KEYS):
+            raise ParameterError("state", state if not isinstance(state, dict) else sorted(state),
+                                 f"it must be the dict YieldingMotion.get_state writes (keys {sorted(self._KEYS)})")
+        n = self.n
+        for key in ("x", "v"):
+            values = state[key]
+            if not isinstance(values, list) or len(values) != n:
+                raise ParameterError(f"state {key}", values, f"it must be a list of {n} numbers")
+            for k, value in enumerate(values):
+                check_finite(f"state {key}[{k}]", value)
+        for key in ("t", "work_in", "viscous"):
+            check_finite(f"state {key}", state[key])
+        frozen = state["frozen"]
+        if frozen is not None and not (isinstance(frozen, list) and len(frozen) == 2 and len(frozen[0]) == n):
+            raise ParameterError("state frozen", frozen, f"None or [{n} accelerations, base shear]")
+        self.storeys.set_state(state["storeys"])
+        self.peaks.set_state(state["peaks"])
+        self.t, self.work_in, self.viscous = float(state["t"]), float(state["work_in"]), float(state["viscous"])
+        self.x, self.v = [float(u) for u in state["x"]], [float(u) for u in state["v"]]
+        self.fresh = bool(state["fresh"])
+        self.frozen = None if frozen is None else ([float(a) for a in frozen[0]], float(frozen[1]))
+
+
+class StoreyGuards:
+    """The storeys' guards (storeys.Hysteresis.guards) over one piece, in events.py's protocol:
+    each linear in its storey's drift delta, g = const + coef delta^(order), in metres."""
+
+    reach = math.inf
+    __slots__ = ("motion", "guards", "bounds", "noise", "growth", "clear", "n")
+
+    def __init__(self, storeys, motion, T):
+        self.motion = motion
+        self.n = n = storeys.n
+        self.guards = guards = storeys.guards()
+        modes = motion.modes
+        bd = motion.bounds(T, 6, weighted=[modes.weighted(0)] + [modes.weighted_difference(k, k - 1)
+                                                                  for k in range(1, n)])
+        start = self._drifts(0.0, 5)
+        b2 = b3 = b4 = n0 = 0.0
+        noise = [0.0, 0.0, 0.0]
+        least = math.inf  # the least value any guard may reach over [0, T] (Taylor from the start)
+        for i, order, coef, const, _ in guards:
+            c, di, bi = abs(coef), start[i], bd[i]
+            b2 = max(b2, c * bi[order + 2])
+            b3 = max(b3, c * bi[order + 3])
+            b4 = max(b4, c * bi[order + 4])
+            n0 = max(n0, abs(const) + c * (abs(di[order]) + T * bi[order + 1]))
+            for j in (1, 2):
+                noise[j - 1] = max(noise[j - 1], c * (bi[order + j] + abs(di[order + j])))
+            noise[2] = max(noise[2], c * bi[order + 3])
+            g0 = const + coef * di[order]
+            least = min(least, g0 - T * min(c * bi[order + 1], abs(coef * di[order + 1]) + T * c * bi[order + 2]))
+        self.bounds = (b2, b3, b4)
+        self.noise = (TOLERANCE * n0, TOLERANCE * noise[0], TOLERANCE * noise[1], TOLERANCE * noise[2])
+        self.growth = modes.fastest
+        self.clear = least > self.noise[0] * (1.0 + self.growth * T)
+
+    def _drifts(self, tau, orders):
+        """Per storey [delta, delta', ..., delta^(orders - 1)] at tau."""
+        n = self.n
+        d = self.motion.derivatives(tau, {k: (0, orders) for k in range(n)}, max(orders, 2))
+        out = [d[0]]
+        for k in range(1, n):
+            a, b = d[k], d[k - 1]
+            out.append([p - q for p, q in zip(a, b)])
+        return out
+
+    def values(self, tau):
+        d = self._drifts(tau, 3)
+        out = []
+        for i, order, coef, const, _ in self.guards:
+            di = d[i]
+            out.append(const + coef * di[order])
+            out.append(coef * di[order + 1])
+        return out
+
+    def derivs(self, tau, index):
+        i, order, coef, const, _ = self.guards[index]
+        di = self._drifts(tau, 5)[i]
+        return const + coef * di[order], coef * di[order + 1], coef * di[order + 2], coef * di[order + 3]
+
+
+class RegimePiece:
+    """A closed-form piece [0, tau] of a YieldingMotion as peaks.Peaks searches it."""
+
+    __slots__ = ("motion", "n", "tau")
+
+    def __init__(self, motion, n, tau):
+        self.motion, self.n, self.tau = motion, n, tau
+
+    def start(self):
+        n = self.n
+        d = self.motion.derivatives(0.0, {k: (0, 5) for k in range(n)})
+        return tuple([d[k][j] for k in range(n)] for j in range(5))
+
+    def bounds(self):
+        motion, n = self.motion, self.n
+        modes = motion.modes
+        drifts = [modes.weighted(0)] + [modes.weighted_difference(k, k - 1) for k in range(1, n)]
+        return motion.bounds(self.tau, 6, range(n)), [b[3] for b in motion.bounds(self.tau, 4, weighted=drifts)]
+
+    def derivatives(self, s, floors):
+        return self.motion.derivatives(s, floors)

@@ -1,0 +1,139 @@
+"""An independent event-driven reference for yielding shear buildings (tests only): scipy's DOP853
+at rtol 1e-12 on M x'' + C x' + F(x) = f - M 1 a_g, with its own hysteresis bookkeeping (each
+storey's EPP spring: elastic with its plastic drift held, or yielding at +-(1 - b) Fy), yield and
+unload event functions, and optionally the particle damper (impact events, Newton's law).
+
+It shares nothing with pidamper_physics but the problem statement: matrices by numpy, damping
+C = M Phi diag(2 zeta w) Phi^T M from scipy.linalg.eigh of (K - K_G, M)."""
+import numpy as np
+import scipy.linalg
+from scipy.integrate import solve_ivp
+
+
+class Reference:
+    def __init__(self, m, k, Fy, b, h, zeta, p_delta=False, g=9.81, damper=None):
+        """damper: None or dict(floor j (0-based), m, w1, zeta_p, d, e)."""
+        self.m, self.k, self.Fy, self.b, self.h = (np.asarray(a, float) for a in (m, k, Fy, b, h))
+        n = self.n = len(m)
+        carried = self.m.copy()
+        if damper is not None:
+            carried[damper["floor"]] += damper["m"]
+        P = g * np.cumsum(carried[::-1])[::-1] if p_delta else np.zeros(n)
+        self.kg = P / self.h
+        keff = self.k - self.kg
+        D = np.eye(n) - np.eye(n, k=-1)  # drift = D x
+        K = D.T @ np.diag(keff) @ D
+        M = np.diag(self.m)
+        w2, phi = scipy.linalg.eigh(K, M)
+        self.C = M @ phi @ np.diag(2 * zeta * np.sqrt(w2)) @ phi.T @ M
+        self.D = D
+        self.damper = damper
+        self.dp = np.zeros(n)
+        self.s = np.zeros(n, int)
+        self.events = []  # (t, kind, storey or side)
+
+    def spring(self, drift):
+        """Storey forces (bilinear springs + P-Delta) at the drifts, in the current regimes."""
+        k, b = self.k, self.b
+        fp = np.where(self.s == 0, (1 - b) * k * (drift - self.dp), self.s * (1 - b) * self.Fy)
+        return b * k * drift + fp - self.kg * drift
+
+    def rhs(self, t, z, ag, F, stick):
+        n = self.n
+        x, v = z[:n], z[n:2 * n]
+        f = self.D.T @ self.spring(self.D @ x) + self.C @ v
+        acc = (F - f) / self.m - ag
+        if self.damper is None:
+            return np.concatenate([v, acc])
+        dm = self.damper
+        j, mp, w1, cp = dm["floor"], dm["m"], dm["w1"], 2 * dm["zeta_p"] * dm["w1"]
+        y, u = z[2 * n], z[2 * n + 1]
+        r, rd = y - x[j], u - v[j]
+        if stick:  # the particle rides floor j: one body of mass m_j + m
+            acc[j] = (F[j] - f[j] - (self.m[j] + mp) * ag) / (self.m[j] + mp)
+            return np.concatenate([v, acc, [v[j], acc[j]]])
+        acc[j] += mp * (w1 * w1 * r + cp * rd) / self.m[j]
+        return np.concatenate([v, acc, [u, -ag - w1 * w1 * r - cp * rd]])
+
+    def run(self, t_grid, ag_of, F_of=None):
+        """Integrate over the grid (loads held on each interval); returns the states at the grid."""
+        n = self.n
+        size = 2 * n + (2 if self.damper else 0)
+        z = np.zeros(size)
+        out = [z.copy()]
+        for t0, t1 in zip(t_grid[:-1], t_grid[1:]):
+            ag = ag_of(t0)
+            F = np.zeros(n) if F_of is None else F_of(t0)
+            z = self._interval(t0, t1, z, ag, F)
+            out.append(z.copy())
+        return np.array(out)
+
+    def _interval(self, t0, t1, z, ag, F):
+        t = t0
+        while t < t1:
+            evs = self._event_functions(ag, F)
+            sol = solve_ivp(self.rhs, (t, t1), z, method="DOP853", rtol=1e-12, atol=1e-15, events=evs,
+                            args=(ag, F, False))
+            hit = [(te[0], i) for i, te in enumerate(sol.t_events) if len(te)]
+            if not hit:
+                return sol.y[:, -1]
+            te, i = min(hit)
+            z = sol.y_events[i][0].copy()
+            t = te
+            self._handle(i, t, z)
+        return z
+
+    def _event_functions(self, ag, F):
+        n = self.n
+        fns = []
+        if self.damper is not None:
+            j, d = self.damper["floor"], self.damper["d"]
+            for sg in (1, -1):  # the gap x_j - y reaching +-d
+                fns.append(self._fn(lambda t, z, *_, sg=sg: d - sg * (z[j] - z[2 * n]), ("impact", j, sg)))
+        for i in range(n):
+            if self.Fy[i] <= 0:
+                continue
+            D = self.Fy[i] / self.k[i]
+            if self.s[i] == 0:
+                for sg in (1, -1):
+                    fns.append(self._fn(lambda t, z, *_, i=i, sg=sg, D=D: D - sg * ((self.D @ z[:n])[i] - self.dp[i]),
+                                        ("yield", i, sg)))
+            else:
+                fns.append(self._fn(lambda t, z, *_, i=i: self.s[i] * (self.D @ z[n:2 * n])[i], ("unload", i, 0)))
+        return fns
+
+    @staticmethod
+    def _fn(f, tag):
+        f.terminal = True
+        f.direction = -1
+        f.tag = tag
+        return f
+
+    def _handle(self, i, t, z):
+        kind, k, sg = self._event_functions(0, 0)[i].tag
+        n = self.n
+        if kind == "impact":  # Newton's law between the particle and floor j
+            dm = self.damper
+            mp, mj, e = dm["m"], self.m[k], dm["e"]
+            w = z[2 * n + 1] - z[n + k]
+            z[n + k] += mp * (1 + e) * w / (mp + mj)
+            z[2 * n + 1] -= mj * (1 + e) * w / (mp + mj)
+            self.events.append((t, kind, sg))
+            self._decide(z)
+            return
+        drift = (self.D @ z[:n])[k]
+        if kind == "yield":
+            self.s[k] = sg
+        else:
+            self.dp[k] = drift - self.s[k] * self.Fy[k] / self.k[k]
+            self.s[k] = 0
+        self.events.append((t, kind, k))
+
+    def _decide(self, z):
+        """Regimes after a velocity jump: a yielding storey whose drift velocity reversed unloads."""
+        n = self.n
+        drift, rate = self.D @ z[:n], self.D @ z[n:2 * n]
+        for i in range(n):
+            if self.s[i] != 0 and self.s[i] * rate[i] < 0:
+                self.dp[i] = drift[i] - self.s[i] * self.Fy[i] / self.k[i]
+                self.s[i] = 0
