@@ -11,11 +11,11 @@ from .locations import ADAPTER, PHYSICS, native_source, sources
 from .models import MODEL_NAME, UNIT, family, models
 
 #: adapter modules (fmu_src/pidamper_fmu) each kind of model ships, its own module last
-_PARTICLE = ("common.py", "particle_tables.py", "slave.py")
+_PARTICLE = ("common.py", "storey_tables.py", "particle_tables.py", "slave.py")
 _COMPONENT = ("common.py", "adapter.py")
 _FILES = {MODEL_NAME: _PARTICLE, UNIT: _COMPONENT + ("unit_slave.py",),
           "DampedShearBuilding": _PARTICLE + ("damped_building_slave.py",),
-          "ShearBuilding": _COMPONENT + ("building_slave.py",)}
+          "ShearBuilding": _COMPONENT + ("storey_tables.py", "building_slave.py",)}
 
 # The model script pythonfmu loads.  pythonfmu 0.7 re-executes it at every fmi2Instantiate,
 # keeps (leaks) a reference to every class that execution defines, and releases one reference

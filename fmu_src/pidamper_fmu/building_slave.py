@@ -24,11 +24,12 @@ from pythonfmu.default_experiment import DefaultExperiment
 
 from pidamper_physics.params import FLOOR_MASS, MAX_STOREYS, STOREY_HEIGHT, STOREY_STIFFNESS
 from pidamper_physics.shear_motion import ShearMotion, make_building
-from pidamper_physics.storeys import COLLAPSE_DRIFT, GRAVITY, HARDENING, check_damping, check_storeys
+from pidamper_physics.storeys import GRAVITY, check_damping, check_storeys
 from pidamper_physics.yielding import YieldingMotion
 
 from .adapter import ComponentSlave
 from .common import fmi_text
+from .storey_tables import yielding_outputs, yielding_parameters
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
@@ -47,17 +48,8 @@ def tables(n):
            f"height of storey {k} (> 0): its drift ratio is its drift / h", False) for k in floors),
         ("zeta_s", Real, 0.0, "1", 0.0, 1.0, "damping ratio of every mode (classical modal damping from the elastic "
                                               "modes, P-Delta included; kept while storeys yield), [0, 1)", False),
-        *((f"storey[{k}].Fy", Real, 0.0, "N", 0.0, None,
-           f"yield force of storey {k} (bilinear, kinematic hardening as OpenSees Steel01; 0 = elastic)", False)
-          for k in floors),
-        *((f"storey[{k}].b", Real, HARDENING, "1", 0.0, 1.0,
-           f"post-yield stiffness ratio of storey {k}, [0, 1) (0 = elastic-perfectly-plastic)", False)
-          for k in floors),
-        ("p_delta", Integer, 0, None, 0, 1, "P-Delta: 0 off, 1 on (geometric stiffness -P_k / h_k of the gravity "
-                                            "load above each storey)", False),
+        *(row + (False,) for row in yielding_parameters(n)),
         ("g", Real, GRAVITY, "m/s2", 0.0, None, "gravitational acceleration of P-Delta's gravity loads (> 0)", False),
-        ("collapse_drift", Real, COLLAPSE_DRIFT, "1", 0.0, 1.0, "storey drift ratio at which the building counts as "
-                                                                 "collapsed, (0, 1]: every output holds from then", False),
     )
     inputs = (
         ("a_g", 0.0, "m/s2", "ground acceleration, held over each step"),
@@ -80,13 +72,7 @@ def tables(n):
            "of an impulse)", True, ()) for k in floors),
         *((f"floor[{k}].a_abs_max", Real, "m/s2", f"largest |absolute acceleration| of floor {k} {located} (its "
            "regular part: an impulse's velocity jump is no acceleration)", True, ()) for k in floors),
-        *((f"storey[{k}].force", Real, "N", f"force of storey {k}'s bilinear spring (P-Delta and dashpots not "
-           "included)", True, ()) for k in floors),
-        *((f"storey[{k}].plastic_drift", Real, "m", f"drift at which storey {k}'s spring force is zero", True, ())
-          for k in floors),
-        ("energy_hysteretic", Real, "J", "energy dissipated by the storeys' yielding so far", True, ()),
-        ("collapsed", Integer, None, "1 once a storey's drift ratio reached collapse_drift (outputs hold from then)",
-         True, ()),
+        *((name, kind, unit, desc, True, ()) for name, kind, unit, desc in yielding_outputs(n)),
         ("energy", Real, "J", "kinetic and strain energy of the floors (relative motion; P-Delta potential "
                               "included)", False, ()),
         ("energy_viscous", Real, "J", "energy taken by the dashpots so far", False, ()),

@@ -10,6 +10,8 @@ from pythonfmu import Integer, Real
 from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, SmallAngleMonitor
 from pidamper_physics.params import FLOOR_MASS, STOREY_HEIGHT, STOREY_STIFFNESS
 
+from .storey_tables import yielding_outputs, yielding_parameters
+
 START = {**DEFAULTS, **INITIAL_DEFAULTS, "angle_limit": SmallAngleMonitor.DEFAULT_LIMIT}
 
 # name, unit, description: held over each communication step
@@ -132,7 +134,8 @@ def building_outputs(n):
         + tuple((f"floor[{k}].v_abs_max", Real, "m/s", f"largest |absolute velocity| of floor {k} {located} (both "
                  "sides of a velocity jump)", False) for k in floors)
         + tuple((f"floor[{k}].a_abs_max", Real, "m/s2", f"largest |absolute acceleration| of floor {k} {located} "
-                 "(its regular part: an impact's velocity jump is an impulse)", False) for k in floors))
+                 "(its regular part: an impact's velocity jump is an impulse)", False) for k in floors)
+        + tuple((name, kind, unit, desc, False) for name, kind, unit, desc in yielding_outputs(n)))
 
 
 def tables(n):
@@ -152,6 +155,7 @@ def tables(n):
                 f"stiffness of storey {k}, joining floor {k - 1} to floor {k} (> 0)") for k in floors]
     params += [(f"storey[{k}].h", Real, STOREY_HEIGHT, "m", 0.0, None,
                 f"height of storey {k} (> 0): its drift ratio is its drift / h") for k in floors]
+    params += yielding_parameters(n)
     shared = tuple((name, kind, unit, _BUILDING_OUTPUTS.get(name, desc), feed)
                    for name, kind, unit, desc, feed in OUTPUTS + DERIVED)
     return tuple(params), shared + building_outputs(n)

@@ -88,6 +88,7 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
             causality = Fmi2Causality.local if derived else Fmi2Causality.output
             self._register_computed(name, kind, causality, self._output_getter(k))
         self._record_values = list(_ZERO_RECORD)  # slot-major Real fields, then the sides
+        self._held = None  # a collapsed building's outputs, held
         self._in_step = 0
         self._record_in_buffer = True  # the buffer may hold a non-zero record: write it at the next push
         for k, (name, kind, *_) in enumerate(RECORD):
@@ -128,9 +129,17 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
             self._record_in_buffer = self._in_step > 0
 
     def _outputs(self, c=None):
-        """The values of COMPUTED in its order (of core `c`, default the current one)."""
+        """The values of COMPUTED in its order (of core `c`, default the current one); a collapsed
+        building's as they were at the end of the step it collapsed in."""
         if c is None:
             c = self._core_now()
+        if c.halted:
+            if self._held is None:
+                self._held = self._live_outputs(c)
+            return self._held
+        return self._live_outputs(c)
+
+    def _live_outputs(self, c):
         theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force = c.observables(self.F, self.a_g)
         n = self._in_step
         out = (theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact,
@@ -141,8 +150,13 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         """floor[k].x, floor[k].a, storey[k].drift, base_shear, the drift ratios and the running
         maxima (particle_tables.building_outputs)."""
         xs, accs, drifts, shear = c.building_outputs(self.F, self.a_g)
-        ratios, drift_max, v_max, a_max = c.model.peak_outputs(drifts)
-        return (*xs, *accs, *drifts, shear, *ratios, *drift_max, *v_max, *a_max)
+        model = c.model
+        ratios, drift_max, v_max, a_max = model.peak_outputs(drifts)
+        forces, zero_force = model.storey_outputs(c.x, c.v)
+        storeys = model.storeys
+        hysteretic, collapsed = (0.0, 0) if storeys is None else (storeys.hysteretic, storeys.collapsed)
+        return (*xs, *accs, *drifts, shear, *ratios, *drift_max, *v_max, *a_max, *forces, *zero_force, hysteretic,
+                collapsed)
 
     # ---- per-step impact record -------------------------------------------------------
 
@@ -189,6 +203,8 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         start = {**START, **values}  # a building has no theta_0, theta_dot_0: it starts at rest
         core = Damper(params, start["theta_0"], start["theta_dot_0"], start["alpha_0"], start["alpha_dot_0"], self._t0)
         core.on_impact = self._record
+        core.on_collapse = self._collapsed
+        self._held = None
         core.bound_work()  # fmi2DoStep cannot be interrupted: a step's work is capped
         limit = self.angle_limit
         if not (math.isfinite(limit) and limit >= 0.0):
@@ -212,6 +228,8 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         if self._in_step:
             self._clear_record()
         core.advance(max(current_time + step_size, t), force, ground)
+        if core.halted and self._held is None:  # collapsed in this step: its outputs hold from here
+            self._held = self._live_outputs(core)
         monitor = self._monitor
         if monitor is not None:
             warning = monitor.check(core)
@@ -238,6 +256,9 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
 
     def _warn(self, text):
         self.log(fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.warning)
+
+    def _collapsed(self, t, reason):
+        self._warn(f"the building collapsed at t = {t!r} s: {reason}; every output holds its value from then")
 
     # ---- FMU state ------------------------------------------------------------------
 
@@ -279,6 +300,7 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         self._record_values[:] = record
         self._record_in_buffer = True
         self._core = None
+        self._held = None
         if self._initialized:
             core = self._core_now()
             core.set_state(dict(state["_core"]))
