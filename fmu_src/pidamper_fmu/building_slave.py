@@ -17,6 +17,7 @@ Defaults: 1e5 kg floors and 8e7 N/m storeys of 3 m (three storeys: first period 
 damped_building_slave.py).
 """
 import uuid
+from operator import mul
 
 from pythonfmu import Integer, Real
 from pythonfmu.enums import Fmi2Status
@@ -135,10 +136,12 @@ class ShearBuildingSlave(ComponentSlave):
         x, v = core.floors()
         a = core.absolute_accelerations(self._forces(), x, v)
         pk = core.peaks
-        if isinstance(core, ShearMotion):
-            return (*x, *v, *a, *core.b.drift_ratios(x), *pk.drift, *pk.velocity, *pk.acceleration,
-                    *core.storey_forces(), *([0.0] * core.n), 0.0, 0, core.b.energy(x, v), core.viscous(),
-                    core.work_in, core.b.base_shear(x, v))
+        if isinstance(core, ShearMotion):  # elastic storeys
+            b = core.b
+            energy = b.energy(x, v)
+            return (*x, *v, *a, *b.drift_ratios(x), *pk.drift, *pk.velocity, *pk.acceleration,
+                    *map(mul, b.stiffnesses, b.drifts(x)), *([0.0] * core.n), 0.0, 0, energy,
+                    core.energy0 + core.work_in - energy, core.work_in, b.base_shear(x, v))
         return (*x, *v, *a, *core.b.drift_ratios(x), *pk.drift, *pk.velocity, *pk.acceleration,
                 *core.storey_forces(), *core.plastic_drifts(), core.hysteretic, core.collapsed, core.energy(),
                 core.viscous, core.work_in, core.base_shear(self._forces()))

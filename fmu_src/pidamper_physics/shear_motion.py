@@ -53,7 +53,8 @@ class ShearMotion:
         self.q = [sum(phi[k][r] * m[k] * x0[k] for k in range(n)) for r in range(n)]
         self.qd = [sum(phi[k][r] * m[k] * v0[k] for k in range(n)) for r in range(n)]
         self.peaks = Peaks(building.heights)
-        self.work_in = 0.0  # work of the held loads (relative frame) and the impulses [J]
+        self.work_in = 0.0  # work of the held loads (relative frame) and the impulses [J]; the
+        # dashpots took E(0) + work_in - E (nothing else dissipates)
         self.energy0 = self.energy()
 
     # ---- floor values ------------------------------------------------------------------
@@ -110,14 +111,6 @@ class ShearMotion:
         self.t = t_end
         # the held loads' work: sum_k f_k dx_k = sum_r (Phi^T f)_r dq_r
         self.work_in += sum(p * (b - a) for p, a, b in zip(loads, q0, self.q))
-
-    def viscous(self):
-        """Energy the dashpots took so far [J]: E(0) + work_in - E (nothing else dissipates)."""
-        return self.energy0 + self.work_in - self.energy()
-
-    def storey_forces(self):
-        """Force of each storey's spring, k_k times its drift [N] (P-Delta not included)."""
-        return [k * d for k, d in zip(self.b.stiffnesses, self.b.drifts(self.floors()[0]))]
 
     def _free(self, tau, loads, ground):
         """Move the modes over a piece of tau [s] under the modal loads, raising the running maxima

@@ -138,6 +138,7 @@ class Hysteresis:
         self.hysteretic = 0.0
         self.events = 0
         self.collapsed, self.collapse_reason, self.collapse_time = 0, "", 0.0
+        self.log = None  # a list to record (t, storey index, kind) of every event in, if given
 
     # ---- the regime's linear system -----------------------------------------------------
 
@@ -217,6 +218,8 @@ class Hysteresis:
         """Apply a guard's zero at time t [s]; returns the collapse reason, or None."""
         i, _, coef, _, kind = guard
         self.events += 1
+        if self.log is not None:
+            self.log.append((t, i, kind))
         if kind == YIELD:
             self.regime[i] = 1 if coef < 0.0 else -1
         elif kind == UNLOAD:

@@ -1,10 +1,14 @@
-"""An independent event-driven reference for yielding shear buildings (tests only): scipy's DOP853
-at rtol 1e-12 on M x'' + C x' + F(x) = f - M 1 a_g, with its own hysteresis bookkeeping (each
-storey's EPP spring: elastic with its plastic drift held, or yielding at +-(1 - b) Fy), yield and
-unload event functions, and optionally the particle damper (impact events, Newton's law).
+"""An independent event-driven reference (a test oracle) for yielding shear buildings: scipy's
+DOP853 at rtol 1e-12 on M x'' + C x' + F(x) = f - M 1 a_g, with its own hysteresis bookkeeping
+(each storey's EPP spring: elastic with its plastic drift held, or yielding at +-(1 - b) Fy), yield,
+unload and impact event functions, and optionally the particle damper hung from a floor (Newton's
+impact law between the particle and that floor; no chatter-to-sticking logic: cases that stick are
+outside its reach).  The dashpots' energy (integral of x'^T C x') and the hysteretic energy
+(integral of f_p d delta_p) are integrated as two extra states.
 
 It shares nothing with pidamper_physics but the problem statement: matrices by numpy, damping
-C = M Phi diag(2 zeta w) Phi^T M from scipy.linalg.eigh of (K - K_G, M)."""
+C = M Phi diag(2 zeta w) Phi^T M from scipy.linalg.eigh(K - K_G, M), P_k = g (masses above storey
+k, the particle's on its floor included)."""
 import numpy as np
 import scipy.linalg
 from scipy.integrate import solve_ivp
@@ -38,27 +42,29 @@ class Reference:
         fp = np.where(self.s == 0, (1 - b) * k * (drift - self.dp), self.s * (1 - b) * self.Fy)
         return b * k * drift + fp - self.kg * drift
 
-    def rhs(self, t, z, ag, F, stick):
+    def rhs(self, t, z, ag, F):
         n = self.n
         x, v = z[:n], z[n:2 * n]
         f = self.D.T @ self.spring(self.D @ x) + self.C @ v
         acc = (F - f) / self.m - ag
+        rate = self.D @ v
+        fp = np.where(self.s == 0, 0.0, self.s * (1 - self.b) * self.Fy)
+        energies = [v @ self.C @ v, fp @ rate]  # dashpots, hysteresis
         if self.damper is None:
-            return np.concatenate([v, acc])
+            return np.concatenate([v, acc, energies])
         dm = self.damper
         j, mp, w1, cp = dm["floor"], dm["m"], dm["w1"], 2 * dm["zeta_p"] * dm["w1"]
         y, u = z[2 * n], z[2 * n + 1]
         r, rd = y - x[j], u - v[j]
-        if stick:  # the particle rides floor j: one body of mass m_j + m
-            acc[j] = (F[j] - f[j] - (self.m[j] + mp) * ag) / (self.m[j] + mp)
-            return np.concatenate([v, acc, [v[j], acc[j]]])
+        energies[0] += mp * cp * rd * rd
         acc[j] += mp * (w1 * w1 * r + cp * rd) / self.m[j]
-        return np.concatenate([v, acc, [u, -ag - w1 * w1 * r - cp * rd]])
+        return np.concatenate([v, acc, [u, -ag - w1 * w1 * r - cp * rd], energies])
 
     def run(self, t_grid, ag_of, F_of=None):
-        """Integrate over the grid (loads held on each interval); returns the states at the grid."""
+        """Integrate over the grid (loads held on each interval); returns the states at the grid:
+        x (n), v (n), [y, u with the damper], then the dashpots' and the hysteretic energy [J]."""
         n = self.n
-        size = 2 * n + (2 if self.damper else 0)
+        size = 2 * n + (2 if self.damper else 0) + 2
         z = np.zeros(size)
         out = [z.copy()]
         for t0, t1 in zip(t_grid[:-1], t_grid[1:]):
@@ -73,7 +79,7 @@ class Reference:
         while t < t1:
             evs = self._event_functions(ag, F)
             sol = solve_ivp(self.rhs, (t, t1), z, method="DOP853", rtol=1e-12, atol=1e-15, events=evs,
-                            args=(ag, F, False))
+                            args=(ag, F))
             hit = [(te[0], i) for i, te in enumerate(sol.t_events) if len(te)]
             if not hit:
                 return sol.y[:, -1]
