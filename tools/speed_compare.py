@@ -1,6 +1,6 @@
 """Step cost of the physics core, merge-base against this tree (issue 22, item 8).
 
-    python tools/speed_compare.py --base REV [--runs 5] [--steps 20000]
+    python tools/speed_compare.py --base REV [--runs 5] [--steps 20000] [--case NAME ...]
 
 Each case steps `Damper.advance` over fixed communication steps of 0.01 s, as fmi2DoStep does, and
 reads the outputs the FMU reads every step (observables; a building's floor outputs too).  A run is
@@ -64,6 +64,7 @@ def main(argv=None):
     parser.add_argument("--base", required=True, help="git revision of the old code (e.g. the merge-base)")
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--steps", type=int, default=20000)
+    parser.add_argument("--case", action="append", choices=sorted(CASES), help="only these cases (default: all)")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp:
         base = Path(tmp) / "base"
@@ -72,7 +73,7 @@ def main(argv=None):
             print(f"Machine: {describe()}; {args.steps} steps of 0.01 s, median of {args.runs} interleaved runs, "
                   "process CPU time\n")
             print("| case | base us/step | new us/step | new / base | impacts |\n|---|---:|---:|---:|---:|")
-            for case in CASES:
+            for case in args.case or CASES:
                 old, new = [], []
                 for _ in range(args.runs):
                     old.append(one_run(base, case, args.steps))

@@ -210,9 +210,8 @@ class BuildingModel(LevelModel):
         """Held loads per mass of the free system: -a_g on every floor, F/m_j - a_g on floor j."""
         b = [fc[1]] * (self.n + 1)
         b[self.j] = fc[0]
-        held = self._held(self.p.building.masses)
-        if held is not None:
-            for i, c in enumerate(held):
+        if self.storeys is not None:
+            for i, c in enumerate(self._held(self.p.building.masses)):
                 b[i] += c
         return b
 
@@ -234,9 +233,8 @@ class BuildingModel(LevelModel):
         mr = self.ride_masses[j]
         b = [fc[1]] * n
         b[j] = (mj * fc[0] + p.m * fc[1]) / mr
-        held = self._held(self.ride_masses)
-        if held is not None:
-            b = [bi + c for bi, c in zip(b, held)]
+        if self.storeys is not None:
+            b = [bi + c for bi, c in zip(b, self._held(self.ride_masses))]
         a = p.F0 / mr
         # N/m = x_j'' + a_g - w1^2 side d = row j of the ride system, plus constants
         contact = ([-k for k in self.Kr[j]], [-c for c in self.Cr[j]], b[j] - p.w1 * p.w1 * side * p.d - fc[1])

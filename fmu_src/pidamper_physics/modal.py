@@ -188,12 +188,11 @@ class Motion:
             self.eta0.append(eta0)
             if secular and k in secular:  # no constant part: beta tau phi1(lam tau) in modal()
                 self.beta.append(beta)
-                self.coef.append(None)
-                self.const.append(0.0)
+                c = 0j
             else:
                 c = beta / lam
-                self.coef.append(eta0 + c)
-                self.const.append(-c)
+            self.coef.append(eta0 + c)
+            self.const.append(-c)
             if self.forced:
                 gamma = sum(w[n + i] * f[i] for i in range(n))
                 self.gamma.append(gamma)
@@ -206,16 +205,16 @@ class Motion:
         if self.forced:
             sp = 1j * self.om
             ep, em = cmath.exp(sp * tau), cmath.exp(-sp * tau)
-        secular = self.secular
         for k, lam in enumerate(self.modes.lam):
             el, el_m1 = exp_pair(lam * tau)
-            if secular and k in secular:
-                eta = el * self.eta0[k] + self.beta[secular.index(k)] * tau * phi1(lam * tau)
-            else:
-                eta = el * self.eta0[k] - self.const[k] * el_m1
+            eta = el * self.eta0[k] - self.const[k] * el_m1
             if self.forced:
                 eta += self.gp[k] * _spread(sp, lam, tau, ep, el) + self.gm[k] * _spread(-sp, lam, tau, em, el)
             out.append(eta)
+        if self.secular:  # their const is 0: the held load's part is beta tau phi1(lam tau)
+            lams = self.modes.lam
+            for i, k in enumerate(self.secular):
+                out[k] += self.beta[i] * tau * phi1(lams[k] * tau)
         return out
 
     def state(self, tau, rows=None):
@@ -241,8 +240,9 @@ class Motion:
         om = self.om
         levels = [eta]
         d = [lam * e - k * lam for lam, e, k in zip(m.lam, eta, self.const)]  # lam eta + beta, beta = -lam const
-        for i, k in enumerate(self.secular):
-            d[k] += self.beta[i]
+        if self.secular:
+            for i, k in enumerate(self.secular):
+                d[k] += self.beta[i]
         if self.forced:
             d = [x + g * s for x, g in zip(d, self.gamma)]
         levels.append(d)
@@ -276,11 +276,10 @@ class Motion:
         secular = self.secular
         for k, lam in enumerate(m.lam):
             a = abs(lam)
+            row = [abs(self.coef[k]) * a ** j for j in range(orders)]
             if secular and k in secular:  # eta^(j) = lam^(j-1) exp(lam tau) (lam eta0 + beta), j >= 1
                 slope = abs(lam * self.eta0[k] + self.beta[secular.index(k)])
                 row = [abs(self.eta0[k]) + T * slope] + [slope * a ** (j - 1) for j in range(1, orders)]
-            else:
-                row = [abs(self.coef[k]) * a ** j for j in range(orders)]
             if self.forced:
                 for g, s in ((self.gp[k], 1j * om), (self.gm[k], -1j * om)):
                     ga = abs(g)
@@ -290,10 +289,12 @@ class Motion:
                         steady = ga * (om ** j + a ** j) / gap if gap > 0.0 else math.inf
                         row[j] += min(p, steady)
                         p = a * p + ga * om ** j
-            if lam.real > 1e-9 * m.fastest:  # a growing mode (beyond rounding): |exp(lam tau)| <= exp(Re lam T) on [0, T]
-                grow = math.exp(lam.real * T)
-                row = [r * grow for r in row]
             per_mode.append(row)
+        if m.growth_rate:  # growing modes: |exp(lam tau)| <= exp(Re lam T) on [0, T]
+            for k, lam in enumerate(m.lam):
+                if lam.real > 1e-9 * m.fastest:
+                    grow = math.exp(lam.real * T)
+                    per_mode[k] = [r * grow for r in per_mode[k]]
         columns = list(zip(*per_mode))  # per order, the modes' bounds
         if weighted is None and vectors is None:  # the components' rows (weight |V|, kept with the modes)
             weighted = [m.weighted(i) for i in (range(2 * m.n) if rows is None else rows)]

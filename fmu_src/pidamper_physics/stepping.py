@@ -129,7 +129,7 @@ class EventDriven:
                 continue
             tau, kind, guard = event
             self._move(seg, tau, t_end if tau >= horizon else None, loads, observe)
-            if guard >= getattr(seg, "contacts", guard + 1):  # a guard of the model's own (a storey's)
+            if guard >= (2 if self.mode == FREE else 1):  # beyond the contacts': the model's own (a storey's)
                 ready = None
                 self._switch(self.mode, self.side)
                 self._own_event(seg, guard)

@@ -92,6 +92,71 @@ def shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_d
     return ops
 
 
+def damped_shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta, floor, m, w1, zeta_p,
+                          d, Kh, xi, g=9.81):
+    """The yielding shear building with the pendulum damper as OpenSees models one: the particle a
+    node of mass m [kg] hung from floor `floor` (0-based) by a spring m w1^2 with the dashpot
+    2 zeta_p m w1 (`Elastic` with eta), the two stops `JankowskiImpact` gap elements (Hertz
+    stiffness Kh [N/m^1.5], damping ratio xi, the gap d [m] each way).  The building's classical
+    modal damping is assembled as a network of `Viscous` dashpots (node to node and node to ground)
+    whose matrix is exactly C = M Phi diag(2 zeta w) Phi^T M of the building's elastic modes (K -
+    K_G): `modalDamping` would damp the particle's modes as well.  Returns `ops`; the particle is
+    node PARTICLE."""
+    import numpy as np
+    import scipy.linalg
+
+    ops = load()
+    n = len(masses)
+    carried = list(masses)
+    carried[floor] += m
+    loads = [g * sum(carried[k:]) for k in range(n)] if p_delta else [0.0] * n
+    keff = [k - p / h for k, p, h in zip(stiffnesses, loads, heights)]
+    D = np.eye(n) - np.eye(n, k=-1)
+    Kmat, Mmat = D.T @ np.diag(keff) @ D, np.diag(masses)
+    w2, phi = scipy.linalg.eigh(Kmat, Mmat)
+    C = Mmat @ phi @ np.diag(2 * zeta * np.sqrt(w2)) @ phi.T @ Mmat
+    ops.wipe()
+    ops.model("basic", "-ndm", 1, "-ndf", 1)
+    ops.node(0, 0.0)
+    ops.fix(0, 1)
+    for k in range(1, n + 1):
+        ops.node(k, 0.0)
+        ops.mass(k, float(masses[k - 1]))
+    ops.node(PARTICLE, 0.0)
+    ops.mass(PARTICLE, float(m))
+    tag = 1
+    for k in range(1, n + 1):
+        fy, kk, b = float(yield_forces[k - 1]), float(stiffnesses[k - 1]), float(ratios[k - 1])
+        ops.uniaxialMaterial(*(("Steel01", tag, fy, kk, b) if fy > 0.0 else ("Elastic", tag, kk)))
+        ops.element("zeroLength", tag, k - 1, k, "-mat", tag, "-dir", 1)
+        tag += 1
+        if p_delta:
+            ops.uniaxialMaterial("Elastic", tag, -loads[k - 1] / float(heights[k - 1]))
+            ops.element("zeroLength", tag, k - 1, k, "-mat", tag, "-dir", 1)
+            tag += 1
+    for i in range(n):  # the damping network: -C_ij between floors i, j; the row sum to the ground
+        for j in range(i, n):
+            c = float(C[i].sum()) if i == j else -float(C[i, j])
+            if c != 0.0:
+                ops.uniaxialMaterial("Viscous", tag, c, 1.0)
+                ops.element("zeroLength", tag, 0 if i == j else i + 1, j + 1, "-mat", tag, "-dir", 1)
+                tag += 1
+    j = floor + 1
+    ops.uniaxialMaterial("Elastic", tag, m * w1 * w1, 2.0 * zeta_p * m * w1)
+    ops.element("zeroLength", tag, j, PARTICLE, "-mat", tag, "-dir", 1)
+    tag += 1
+    meff = m * masses[floor] / (m + masses[floor])
+    for a, b in ((j, PARTICLE), (PARTICLE, j)):  # the stops: compression of b - a below -d
+        ops.uniaxialMaterial("JankowskiImpact", tag, float(Kh), float(xi), float(meff), -float(d))
+        ops.element("zeroLength", tag, a, b, "-mat", tag, "-dir", 1)
+        tag += 1
+    return ops
+
+
+#: the particle's node of damped_shear_building
+PARTICLE = 1000
+
+
 def run_building(model, samples, dt_record, dt, stop_time, floors=None):
     """Drive a shear_building with the held ground motion `samples` (interval dt_record) at the
     analysis step dt up to stop_time; returns (times, displacements of `floors` (default: all)

@@ -51,7 +51,7 @@ class CoreStepper:
     def __init__(self, start_values=None, forcing=None, start_time=0.0):
         values = dict(start_values or {})
         initial = [float(values.pop(k, default)) for k, default in INITIAL_DEFAULTS.items()]
-        known = [k for k in values if k in Params.NAMES or re.fullmatch(r"(floor\[\d+\]\.m|storey\[\d+\]\.[kh])", k)]
+        known = [k for k in values if k in Params.NAMES or re.fullmatch(r"(floor\[\d+\]\.m|storey\[\d+\]\.(k|h|Fy|b))", k)]
         params = {k: values.pop(k) for k in known}
         if values:
             raise KeyError(f"unknown parameters {sorted(values)!r}")

@@ -40,10 +40,12 @@ else:  # pragma: no cover
 
 PARAMETERS = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi",
               "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0", "angle_limit", "zeta_s", "zeta_p",
-              "storeys", "damper_floor", "floor_m", "storey_k")
+              "storeys", "damper_floor", "floor_m", "storey_k", "storey_h", "storey_Fy", "storey_b", "p_delta",
+              "collapse_drift")
 #: a building's per-storey parameters: a number (every storey) or a list (storey 1 first), and the
 #: FMU variables they fill
-PER_STOREY = {"floor_m": "floor[{}].m", "storey_k": "storey[{}].k"}
+PER_STOREY = {"floor_m": "floor[{}].m", "storey_k": "storey[{}].k", "storey_h": "storey[{}].h",
+              "storey_Fy": "storey[{}].Fy", "storey_b": "storey[{}].b"}
 FIDELITY = LEVELS  # linear, damped, coupled, nonlinear: FMU parameter fidelity = the index
 SECTIONS = ("description", "name", "parameters", "forcing", "run", "outputs", "log")
 FORCING_ARGS = {
@@ -124,8 +126,9 @@ class Scene:
 
 
 def fmu_values(parameters):
-    """FMU start values of scene or study parameters: floor_m and storey_k (a number for every
-    storey, or a list, storey 1 first) spread over floor[k].m and storey[k].k."""
+    """FMU start values of scene or study parameters: floor_m, storey_k, storey_h, storey_Fy and
+    storey_b (a number for every storey, or a list, storey 1 first) spread over floor[k].m,
+    storey[k].k, storey[k].h, storey[k].Fy and storey[k].b."""
     values = {k: v for k, v in parameters.items() if k not in PER_STOREY}
     for key, pattern in PER_STOREY.items():
         given = parameters.get(key)
@@ -178,7 +181,7 @@ def parse(data, source="scene", folder=Path("."), name="scene"):
                 _number(source, f"parameters.{key}[{k}]", item)
             continue
         _number(source, f"parameters.{key}", value)
-        if key in ("storeys", "damper_floor", "contact_form") and not isinstance(value, int):
+        if key in ("storeys", "damper_floor", "contact_form", "p_delta") and not isinstance(value, int):
             raise SceneError(source, f"parameters.{key}", value, "an integer")
     forcing = _table(data, "forcing", source) or {"kind": "none"}
     kind = forcing.get("kind")
