@@ -182,10 +182,10 @@ class _CtrlC:
 
 def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, out_dir="out", name="run",
                fmu=None, mcap=True, rrd=True, serve=False, connect=None, block=1000, start_time=0.0, topics=None,
-               views=None, scene=None):
+               views=None, scene=None, after_collapse=False):
     """run() with the MCAP and the .rrd written into out_dir while it goes; `topics` and `views`
     choose the MCAP topics and the Rerun views (default: all); `scene` (name, source, description)
-    is kept in the run's info."""
+    is kept in the run's info; a building's collapse ends the run unless after_collapse (run())."""
     forcing = forcing or none()
     start_values = {**(parameters or {}), **forcing.start_values}
     path = find_fmu(fmu, storeys=storeys_of(start_values))  # DampedShearBuilding<N>.fmu for storeys = N
@@ -207,7 +207,7 @@ def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.
             result = run(parameters, forcing, stop_time, output_interval, fmu=path, start_time=start_time,
                          step_finished=lambda t, rec: collector(t, rec) and not ctrl_c.pressed,
                          extra_outputs=("impacts_in_step",),
-                         on_warning=lambda t, text: sinks.note(t, "warning", text))
+                         on_warning=lambda t, text: sinks.note(t, "warning", text), after_collapse=after_collapse)
         if ctrl_c.pressed:
             raise KeyboardInterrupt(f"interrupted by the user at t = {collector.last_t:.9g} s")
     except BaseException as err:
@@ -221,6 +221,9 @@ def run_logged(parameters=None, forcing=None, stop_time=20.0, output_interval=0.
             err.logs = (mcap_path, rrd_path)
         raise
     collector.flush()
+    if "collapsed" in result.meta:
+        sinks.note(result.meta["collapsed"], "warning", f"the building collapsed by t = {result.meta['collapsed']:.9g} "
+                                                        "s: the run stops there")
     sinks.note(float(result.data["time"][-1]), "info",
                f"run complete: {int(result.data['impacts'][-1])} impacts, {collector.recorded} recorded "
                f"individually, {collector.unrecorded} not")

@@ -99,17 +99,25 @@ def peak_columns(storeys):
         for k in range(1, storeys + 1))
 
 
+def yield_columns(storeys):
+    """A building's yielding storeys: spring forces, zero-force drifts, hysteretic energy, collapse."""
+    return tuple(f"storey[{k}].{field}" for field in ("force", "plastic_drift") for k in range(1, storeys + 1)) + (
+        "energy_hysteretic", "collapsed")
+
+
 def building_outputs(parameters):
     """The building's outputs a run records beside OUTPUTS (none with storeys = 0)."""
     n = storeys_of(parameters)
-    return floor_columns(n) + peak_columns(n) if n else ()
+    return floor_columns(n) + peak_columns(n) + yield_columns(n) if n else ()
 
 
 def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu=None, start_time=0.0,
-        step_finished=None, extra_outputs=(), on_warning=None):
+        step_finished=None, extra_outputs=(), on_warning=None, after_collapse=False):
     """Simulate the FMU with fmpy.simulate_fmu; parameters are FMU start values, extra_outputs
     further FMU variables to record beside OUTPUTS.  The model's warnings end up in
-    result.meta["warnings"]; on_warning(t, text) also hears each one at the step it came in."""
+    result.meta["warnings"]; on_warning(t, text) also hears each one at the step it came in.  A
+    building that collapses (its `collapsed` output turns 1) ends the run at that step, its time in
+    result.meta["collapsed"], unless after_collapse is true (the FMU then holds every output)."""
     forcing = forcing or none()
     _check_interval(start_time, stop_time, output_interval)
     start_values = dict(parameters or {})
@@ -133,7 +141,13 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
     def watch(t, recorder):  # keeps the recorder, so a failed run still returns its rows
         seen["recorder"] = recorder
         tell(t)
-        return step_finished(t, recorder) if step_finished is not None else True
+        go_on = step_finished(t, recorder) if step_finished is not None else True
+        if "collapsed" in extra_outputs and recorder.rows:
+            column = seen.setdefault("collapsed", [c[0] for c in recorder.cols].index("collapsed"))
+            if recorder.rows[-1][column] and "collapse" not in seen:
+                seen["collapse"] = float(recorder.rows[-1][0])
+                go_on = go_on and after_collapse
+        return go_on
 
     cpu = time.process_time()
     try:
@@ -149,7 +163,10 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
     cpu = time.process_time() - cpu
     tell(float(data["time"][-1]))  # what the model said at fmi2Terminate
     data = _with_force(data, forcing)
-    return RunResult(data, path, start_values, forcing, output_interval, cpu, {"warnings": messages.warnings()})
+    meta = {"warnings": messages.warnings()}
+    if "collapse" in seen:
+        meta["collapsed"] = seen["collapse"]
+    return RunResult(data, path, start_values, forcing, output_interval, cpu, meta)
 
 
 def _with_force(data, forcing):

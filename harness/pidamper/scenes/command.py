@@ -89,6 +89,8 @@ def add_arguments(parser):
     parser.add_argument("--csv-out", help="write the result table to this CSV file")
     parser.add_argument("--out", default="out", help="folder for the run's NAME.mcap and NAME.rrd (default: out)")
     parser.add_argument("--name", help="file stem of the logs (default: the scene's name)")
+    parser.add_argument("--after-collapse", action="store_true",
+                        help="a building that collapses: run on to the end (its outputs hold) instead of stopping")
     parser.add_argument("--no-log", action="store_true", help="write neither MCAP nor .rrd")
     parser.add_argument("--no-rrd", action="store_true", help="write the MCAP only")
     parser.add_argument("--serve", action="store_true", help="also serve the recording to Rerun viewers (gRPC)")
@@ -105,12 +107,13 @@ def run_command(args):
     mcap, rrd = log.get("mcap", True), log.get("rrd", True)
     try:
         if not (mcap or rrd or args.serve or args.connect):
-            result = run(params, signal, stop_time=stop, output_interval=h, fmu=args.fmu)
+            result = run(params, signal, stop_time=stop, output_interval=h, fmu=args.fmu,
+                         after_collapse=args.after_collapse)
         else:
             logged = run_logged(params, signal, stop_time=stop, output_interval=h, out_dir=args.out,
                                 name=args.name or sc.name, fmu=args.fmu, mcap=mcap, rrd=rrd, serve=args.serve,
                                 connect=args.connect, topics=log.get("mcap_topics"), views=log.get("rerun_views"),
-                                scene=sc.summary())
+                                scene=sc.summary(), after_collapse=args.after_collapse)
             result, logs = logged.result, logged
     except (FmuError, KeyboardInterrupt) as err:
         partial = getattr(err, "partial", None)
@@ -126,6 +129,9 @@ def run_command(args):
         print(f"warning from the FMU: {warning}", file=sys.stderr)
     print(f"scene {sc.name}: {sc.description}; FMU {result.fmu}")
     print(f"forcing {signal.kind} {signal.args}; {len(d) - 1} steps of {h:g} s to t = {d['time'][-1]:.6g} s")
+    if "collapsed" in result.meta:
+        print(f"the building collapsed in the step ending at t = {result.meta['collapsed']:.6g} s: the run stopped "
+              "there (--after-collapse runs on)")
     building = "base_shear" in d.dtype.names
     swing = (f"max |x| of the damper floor {abs(d['x']).max():.6g} m, max |base_shear| "
              f"{abs(d['base_shear']).max():.6g} N" if building else f"max |theta| {abs(d['theta']).max():.6g} rad")
