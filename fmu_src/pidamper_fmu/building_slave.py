@@ -19,7 +19,7 @@ damped_building_slave.py).
 import uuid
 from operator import mul
 
-from pythonfmu import Integer, Real
+from pythonfmu import Real
 from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 

@@ -4,7 +4,7 @@ storey[k].force, storey[k].plastic_drift, energy_hysteretic, collapsed (pidamper
 """
 from pythonfmu import Integer, Real
 
-from pidamper_physics.params import COLLAPSE_DRIFT, HARDENING
+from pidamper_physics.storeys import COLLAPSE_DRIFT, HARDENING
 
 
 def yielding_parameters(n):

@@ -346,3 +346,15 @@ def inverse_rows(V, rows):
     n = len(V)
     factors = lu_factor([[V[i][j] for i in range(n)] for j in range(n)])
     return [lu_solve(factors, [1.0 if r == k else 0.0 for r in range(n)]) for k in rows]
+
+
+def null_space(a, r):
+    """r orthonormal real vectors spanning the null space of the square matrix a (those of the r
+    smallest eigenvalues of a^T a, by jacobi_eigh), or None if a has no null space of dimension r."""
+    n = len(a)
+    ata = [[sum(a[k][i] * a[k][j] for k in range(n)) for j in range(n)] for i in range(n)]
+    lams, vec = jacobi_eigh(ata)
+    top = max(abs(x) for x in lams) or 1.0
+    if r > n or any(lams[k] > 1e-20 * top for k in range(r)):
+        return None
+    return [[vec[i][k] for i in range(n)] for k in range(r)]

@@ -74,8 +74,9 @@ class Modes:
         # q') have like scales whatever the units (a small g made V ill-scaled: 2e-4 of x lost at
         # g = 1e-15 m/s2); lam, V and W are scaled back at the end
         s = math.sqrt(max(abs(k) for row in K for k in row))
-        if s == 0.0:  # no stiffness at all (a yielding storey of zero tangent): the damping's scale
-            s = max(abs(c) for row in C for c in row) or 1.0
+        damping = max(abs(c) for row in C for c in row)
+        if s <= 1e-8 * damping or s == 0.0:  # stiffness negligible beside the damping (yielding storeys
+            s = damping or 1.0               # of zero tangent): the damping's scale
         K = [[k / (s * s) for k in row] for row in K]
         C = [[c / s for c in row] for row in C]
         uncoupled = n == 2 and K[0][1] == K[1][0] == C[0][1] == C[1][0] == 0.0
@@ -100,14 +101,27 @@ class Modes:
             lams = eigen.quartic_roots(c11 + c22, k11 + k22 + c11 * c22 - c12 * c21,
                                   c11 * k22 + c22 * k11 - c12 * k21 - c21 * k12, k11 * k22 - k12 * k21, guesses)
         scale = max(abs(x) for x in lams)
+        # a zero eigenvalue of multiplicity r >= 2 (r storeys of zero tangent: a mechanism of r
+        # degrees of freedom) is semi-simple: its modes are a basis of null(K), lam = 0 exactly
+        zeros = [k for k, lam in enumerate(lams) if abs(lam) <= SECULAR * scale] if not uncoupled else []
+        if len(zeros) < 2:
+            zeros = []
+        for k in zeros:
+            lams[k] = 0j
         for i in range(len(lams) if not uncoupled else 0):
             for j in range(i):
-                if abs(lams[i] - lams[j]) <= 1e-7 * scale:
+                if abs(lams[i] - lams[j]) <= 1e-7 * scale and not (i in zeros and j in zeros):
                     raise ModesError(f"two modes coincide (eigenvalue {lams[i]:.6g})")
         if uncoupled:
             vecs = [[1.0 + 0j, 0j]] * 2 + [[0j, 1.0 + 0j]] * 2
         elif n <= 2:
-            vecs = [self._shape(K, C, lam) for lam in lams]
+            vecs = [None if k in zeros else self._shape(K, C, lam) for k, lam in enumerate(lams)]
+        if zeros:
+            basis = eigen.null_space(K, len(zeros))
+            if basis is None:
+                raise ModesError(f"{len(zeros)} eigenvalues at 0 but K has no null space of that dimension")
+            for k, phi in zip(zeros, basis):
+                vecs[k] = [complex(t) for t in phi]
         # columns (phi, lam phi)
         V = [[vecs[k][i] for k in range(2 * n)] for i in range(n)] + \
             [[lams[k] * vecs[k][i] for k in range(2 * n)] for i in range(n)]

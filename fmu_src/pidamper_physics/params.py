@@ -20,6 +20,8 @@ top floor), whose mass is then M; M, L2 and the pendulum primary's w2 play no pa
 import math
 
 from .building import ShearBuilding
+from .refusals import ParameterError, check_finite
+from .storeys import COLLAPSE_DRIFT, HARDENING, check_damping, check_storeys
 
 DISPLACEMENT = 0
 ANGLE = 1
@@ -40,10 +42,6 @@ FLOOR_MASS = 1.0e5
 STOREY_STIFFNESS = 8.0e7
 #: default storey height [m] (storey[k].h: the drift ratio is the drift / h)
 STOREY_HEIGHT = 3.0
-#: default post-yield stiffness ratio of a yielding storey, and the drift ratio at which a yielding
-#: building counts as collapsed (storeys.py)
-HARDENING = 0.02
-COLLAPSE_DRIFT = 0.10
 #: default initial state [rad, rad/s]: particle at rest, primary started by a velocity
 INITIAL_DEFAULTS = {"theta_0": 0.0, "theta_dot_0": 0.5, "alpha_0": 0.0, "alpha_dot_0": 0.0}
 
@@ -56,22 +54,6 @@ SCALE_RANGE = (1e-150, 1e150)
 #: least 1 - zeta^2 of a dashpot: the eigenvalues -zeta w +- i w sqrt(1 - zeta^2) of its mode stay
 #: 2e-6 w apart, so the modal closed form keeps about 10 of its 16 digits
 ZETA_GAP = 1e-12
-
-
-class ParameterError(ValueError):
-    """A parameter or input outside its allowed range; names the value and the rule."""
-
-    def __init__(self, name, value, allowed):
-        self.name = name
-        self.value = value
-        self.allowed = allowed
-        super().__init__(f"{name} = {value!r} is not allowed: {allowed}")
-
-
-def check_finite(name, value):
-    if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
-        raise ParameterError(name, value, "it must be a finite number")
-    return float(value)
 
 
 def _positive(name, value):
@@ -159,7 +141,6 @@ class Params:
         self.floor = (self.damper_floor or n) - 1  # index of the damper floor
         self.M = self.building.masses[self.floor]
         self.m = self.mu * self.building.total_mass
-        from .storeys import check_damping, check_storeys  # storeys.py builds on this module
         law = check_storeys(self.storey_k[:n], self.storey_Fy[:n], self.storey_b[:n], self.storey_h[:n],
                             self.floor_m[:n], self.p_delta, self.g, self.collapse_drift, (self.floor, self.m))
         if self.p_delta:  # the building of K - K_G: its modes, damping and first frequency

@@ -16,9 +16,12 @@ P-Delta adds the geometric stiffness -P / h to every regime's kt (P the gravity 
 carries, h its height): `b k - P / h < 0` is a negative tangent.  Fy = 0 is an elastic storey.
 Plain Python (math): this ships inside the FMU.
 """
-from .params import COLLAPSE_DRIFT, HARDENING, ParameterError, check_finite
+from .refusals import ParameterError, check_finite
 
 ELASTIC = 0
+#: default post-yield stiffness ratio, and the drift ratio at which a yielding building collapses
+HARDENING = 0.02
+COLLAPSE_DRIFT = 0.10
 __all__ = ["Storeys", "check_storeys", "check_damping", "gravity_loads", "ELASTIC", "HARDENING", "COLLAPSE_DRIFT",
            "GRAVITY"]
 #: default gravitational acceleration of the gravity loads [m/s2]

@@ -175,6 +175,8 @@ def run_building(model, samples, dt_record, dt, stop_time, floors=None):
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
     per = int(round(dt_record / dt))
+    if abs(per * dt - dt_record) > 1e-9 * dt_record:
+        raise ValueError(f"dt = {dt!r} is not allowed: it must divide the record's interval {dt_record!r} s")
     steps = int(round(stop_time / dt_record))
     out_t, out_x = [0.0], [[0.0] * len(floors)]
     for i in range(steps):

@@ -35,6 +35,9 @@ class Reference:
         self.dp = np.zeros(n)
         self.s = np.zeros(n, int)
         self.events = []  # (t, kind, storey or side)
+        # solve_ivp sees a guard's sign only at its step ends: a guard that dips below zero and back
+        # within one step (a storey grazing its yield surface) would be missed; short steps see it
+        self.max_step = 5e-4
 
     def spring(self, drift):
         """Storey forces (bilinear springs + P-Delta) at the drifts, in the current regimes."""
@@ -79,7 +82,7 @@ class Reference:
         while t < t1:
             evs = self._event_functions(ag, F)
             sol = solve_ivp(self.rhs, (t, t1), z, method="DOP853", rtol=1e-12, atol=1e-15, events=evs,
-                            args=(ag, F))
+                            args=(ag, F), max_step=self.max_step)
             hit = [(te[0], i) for i, te in enumerate(sol.t_events) if len(te)]
             if not hit:
                 return sol.y[:, -1]
@@ -130,8 +133,10 @@ class Reference:
         drift = (self.D @ z[:n])[k]
         if kind == "yield":
             self.s[k] = sg
-        else:
-            self.dp[k] = drift - self.s[k] * self.Fy[k] / self.k[k]
+        else:  # elastic again, a hair (1e-12 of the elastic range) inside the surface it left: the
+            # restarted integration then sees its yield guard start positive, so a quick re-yield
+            # at the same surface (within the first step) is a sign change it cannot miss
+            self.dp[k] = drift - self.s[k] * self.Fy[k] / self.k[k] * (1.0 - 1e-12)
             self.s[k] = 0
         self.events.append((t, kind, k))
 
@@ -141,5 +146,5 @@ class Reference:
         drift, rate = self.D @ z[:n], self.D @ z[n:2 * n]
         for i in range(n):
             if self.s[i] != 0 and self.s[i] * rate[i] < 0:
-                self.dp[i] = drift[i] - self.s[i] * self.Fy[i] / self.k[i]
+                self.dp[i] = drift[i] - self.s[i] * self.Fy[i] / self.k[i] * (1.0 - 1e-12)
                 self.s[i] = 0

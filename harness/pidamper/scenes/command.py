@@ -141,6 +141,8 @@ def run_command(args):
         print(f"peaks (exact): drift ratio {peaks['drift_ratio'].max():.6g} (storey "
               f"{int(peaks['drift_ratio'].argmax()) + 1}), floor absolute acceleration {peaks['a_abs'].max():.6g} m/s2, "
               f"absolute velocity {peaks['v_abs'].max():.6g} m/s")
+        if d["energy_hysteretic"][-1] > 0.0:
+            print(f"the storeys yielded: hysteretic energy {d['energy_hysteretic'][-1]:.6g} J")
     print(f"impacts {int(d['impacts'][-1])}; {swing}; "
           f"energy {d['energy'][-1]:.6g} J; dissipated {d['energy_dissipated'][-1]:.6g} J; "
           f"work in {d['work_in'][-1]:.6g} J; CPU {result.cpu_time:.3f} s")
