@@ -144,7 +144,7 @@ class ShearBuildingSlave(ComponentSlave):
                     core.energy0 + core.work_in - energy, core.work_in, b.base_shear(x, v))
         return (*x, *v, *a, *core.b.drift_ratios(x), *pk.drift, *pk.velocity, *pk.acceleration,
                 *core.storey_forces(), *core.plastic_drifts(), core.hysteretic, core.collapsed, core.energy(),
-                core.viscous, core.work_in, core.base_shear(self._forces()))
+                core.viscous, core.work_in, core.base_shear())
 
     def _warn(self, text):
         self.log(fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.warning)

@@ -31,13 +31,11 @@ import math
 
 from .events import locate
 from .modal import Modes, ModesError, Motion
-from .params import ParameterError, check_finite
 from .peaks import Peaks
+from .refusals import ParameterError, check_finite
 from .segments import TOLERANCE
+from .stepping import MAX_PIECES
 from .storeys import Hysteresis
-
-#: most pieces one advance() may take (each an event or a span): a bound on a call's work
-MAX_PIECES = 100000
 
 
 class YieldingMotion:
@@ -103,7 +101,7 @@ class YieldingMotion:
             return list(self.frozen[0])
         return [(f - r) / m for f, r, m in zip(forces, self._restoring(), self.b.masses)]
 
-    def base_shear(self, forces=None):
+    def base_shear(self):
         """Force of the building on the ground [N]: the sum over the floors of the storeys' and
         dashpots' forces (held from the collapse instant)."""
         if self.frozen is not None:
@@ -144,9 +142,9 @@ class YieldingMotion:
                 self.t = t_stop
                 return
             self.pieces += 1
-            if self.pieces > MAX_PIECES:
+            if self.pieces > MAX_PIECES:  # fmi2DoStep cannot be interrupted: a call's work is capped
                 raise ParameterError("step", t_stop - self.t, f"it needed more than {MAX_PIECES} pieces by "
-                                     f"t = {self.t!r} s: take shorter communication steps")
+                                     f"t = {self.t!r} s (the state is left there): take shorter communication steps")
             modes = self._modes()
             if isinstance(modes, str):
                 self._collapse(modes, forces)
