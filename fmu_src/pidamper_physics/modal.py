@@ -194,17 +194,12 @@ class Motion:
         self.forced = f is not None and any(fi != 0.0 for fi in f)
         self.eta0, self.coef, self.const, self.gp, self.gm, self.gamma = [], [], [], [], [], []
         self.secular = secular = modes.secular
-        self.beta = []
         eip = cmath.exp(1j * psi)
-        for k, (lam, w) in enumerate(zip(modes.lam, modes.W)):
+        for lam, w in zip(modes.lam, modes.W):
             eta0 = sum(w[i] * z0[i] for i in range(2 * n))
             beta = sum(w[n + i] * b[i] for i in range(n))
+            c = beta / lam if lam else 0j
             self.eta0.append(eta0)
-            if secular and k in secular:  # no constant part: beta tau phi1(lam tau) in modal()
-                self.beta.append(beta)
-                c = 0j
-            else:
-                c = beta / lam
             self.coef.append(eta0 + c)
             self.const.append(-c)
             if self.forced:
@@ -212,6 +207,10 @@ class Motion:
                 self.gamma.append(gamma)
                 self.gp.append(gamma * eip / 2j)
                 self.gm.append(-gamma / eip / 2j)
+        # secular modes (lam ~ 0): no constant part, their held load's part is beta tau phi1(lam tau)
+        self.beta = [sum(modes.W[k][n + i] * b[i] for i in range(n)) for k in secular]
+        for k in secular:
+            self.coef[k], self.const[k] = self.eta0[k], 0j
 
     def modal(self, tau):
         """Modal coordinates eta_k(tau) of the kept modes."""
@@ -287,13 +286,9 @@ class Motion:
         m = self.modes
         om = self.om
         per_mode = []
-        secular = self.secular
         for k, lam in enumerate(m.lam):
             a = abs(lam)
             row = [abs(self.coef[k]) * a ** j for j in range(orders)]
-            if secular and k in secular:  # eta^(j) = lam^(j-1) exp(lam tau) (lam eta0 + beta), j >= 1
-                slope = abs(lam * self.eta0[k] + self.beta[secular.index(k)])
-                row = [abs(self.eta0[k]) + T * slope] + [slope * a ** (j - 1) for j in range(1, orders)]
             if self.forced:
                 for g, s in ((self.gp[k], 1j * om), (self.gm[k], -1j * om)):
                     ga = abs(g)
@@ -304,6 +299,11 @@ class Motion:
                         row[j] += min(p, steady)
                         p = a * p + ga * om ** j
             per_mode.append(row)
+        for i, k in enumerate(self.secular):  # eta^(j) = lam^(j-1) exp(lam tau) (lam eta0 + beta), j >= 1
+            lam, a = m.lam[k], abs(m.lam[k])
+            slope = abs(lam * self.eta0[k] + self.beta[i])
+            free = [abs(self.eta0[k]) + T * slope] + [slope * a ** (j - 1) for j in range(1, orders)]
+            per_mode[k] = [f + r - abs(self.coef[k]) * a ** j for j, (f, r) in enumerate(zip(free, per_mode[k]))]
         if m.growth_rate:  # growing modes: |exp(lam tau)| <= exp(Re lam T) on [0, T]
             for k, lam in enumerate(m.lam):
                 if lam.real > 1e-9 * m.fastest:
