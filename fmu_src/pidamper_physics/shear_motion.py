@@ -24,6 +24,7 @@ import math
 from .building import ShearBuilding
 from .oscillator import DampedOscillator
 from .params import ParameterError, check_building, check_finite
+from .refusals import check_step
 from .peaks import Peaks
 
 #: the building of floor masses and storey stiffnesses, checked (params.check_building)
@@ -87,14 +88,7 @@ class ShearMotion:
         acceleration `ground` [m/s2]; `impulses`: (time, floor index 0..N-1, J [N s]) applied at
         those times (clamped into [t, t_end])."""
         b, n = self.b, self.n
-        total = t_end + ground + sum(forces)
-        if total - total != 0.0:
-            check_finite("t_end", t_end)
-            check_finite("a_g", ground)
-            for k, f in enumerate(forces):
-                check_finite(f"F[{k + 1}]", f)
-        if t_end < self.t:
-            raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
+        check_step(self.t, t_end, forces, ground)
         phi, m = b.shapes, b.masses
         loads = [sum(phi[k][r] * (forces[k] - m[k] * ground) for k in range(n)) for r in range(n)]
         kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0)

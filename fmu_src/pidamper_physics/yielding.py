@@ -32,7 +32,7 @@ import math
 from .events import locate
 from .modal import Modes, ModesError, Motion
 from .peaks import Peaks
-from .refusals import ParameterError, check_finite
+from .refusals import ParameterError, check_finite, check_step
 from .segments import TOLERANCE
 from .stepping import MAX_PIECES
 from .storeys import Hysteresis
@@ -120,14 +120,7 @@ class YieldingMotion:
     def advance(self, t_end, forces, ground=0.0, impulses=()):
         """Move to t_end [s] under the held floor forces [N] and ground acceleration [m/s2];
         `impulses`: (time, floor index 0..N-1, J [N s]), clamped into [t, t_end]."""
-        total = t_end + ground + sum(forces)
-        if total - total != 0.0:
-            check_finite("t_end", t_end)
-            check_finite("a_g", ground)
-            for k, f in enumerate(forces):
-                check_finite(f"F[{k + 1}]", f)
-        if t_end < self.t:
-            raise ParameterError("t_end", t_end, f"it must be >= the current time {self.t!r}")
+        check_step(self.t, t_end, forces, ground)
         self.pieces = 0
         kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0)
         for t_k, k, j in kicks:

@@ -64,18 +64,23 @@ def staircase(samples, dt):
     return times, values
 
 
+def _floors(ops, masses):
+    """A fresh 1-D domain: node 0 the fixed ground, nodes 1..N the floors with their masses [kg]."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 1, "-ndf", 1)
+    ops.node(0, 0.0)
+    ops.fix(0, 1)
+    for k, m in enumerate(masses, start=1):
+        ops.node(k, 0.0)
+        ops.mass(k, float(m))
+
+
 def shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta=False, g=9.81):
     """Build the yielding shear building in a fresh OpenSees domain (see the module doc); returns
     the `ops` module."""
     ops = load()
     n = len(masses)
-    ops.wipe()
-    ops.model("basic", "-ndm", 1, "-ndf", 1)
-    ops.node(0, 0.0)
-    ops.fix(0, 1)
-    for k in range(1, n + 1):
-        ops.node(k, 0.0)
-        ops.mass(k, float(masses[k - 1]))
+    _floors(ops, masses)
     for k in range(1, n + 1):
         fy, kk, b = float(yield_forces[k - 1]), float(stiffnesses[k - 1]), float(ratios[k - 1])
         if fy > 0.0:
@@ -115,13 +120,7 @@ def damped_shear_building(masses, stiffnesses, yield_forces, ratios, heights, ze
     Kmat, Mmat = D.T @ np.diag(keff) @ D, np.diag(masses)
     w2, phi = scipy.linalg.eigh(Kmat, Mmat)
     C = Mmat @ phi @ np.diag(2 * zeta * np.sqrt(w2)) @ phi.T @ Mmat
-    ops.wipe()
-    ops.model("basic", "-ndm", 1, "-ndf", 1)
-    ops.node(0, 0.0)
-    ops.fix(0, 1)
-    for k in range(1, n + 1):
-        ops.node(k, 0.0)
-        ops.mass(k, float(masses[k - 1]))
+    _floors(ops, masses)
     ops.node(PARTICLE, 0.0)
     ops.mass(PARTICLE, float(m))
     tag = 1
