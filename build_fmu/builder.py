@@ -11,9 +11,9 @@ from .locations import ADAPTER, PHYSICS, native_source, sources
 from .models import MODEL_NAME, UNIT, family, models
 
 #: adapter modules (fmu_src/pidamper_fmu) each kind of model ships, its own module last
-_PARTICLE = ("common.py", "storey_tables.py", "particle_tables.py", "slave.py")
+_PARTICLE = ("common.py", "contact_tables.py", "storey_tables.py", "particle_tables.py", "slave.py")
 _COMPONENT = ("common.py", "adapter.py")
-_FILES = {MODEL_NAME: _PARTICLE, UNIT: _COMPONENT + ("unit_slave.py",),
+_FILES = {MODEL_NAME: _PARTICLE, UNIT: _COMPONENT + ("contact_tables.py", "unit_slave.py",),
           "DampedShearBuilding": _PARTICLE + ("damped_building_slave.py",),
           "ShearBuilding": _COMPONENT + ("storey_tables.py", "building_slave.py",)}
 

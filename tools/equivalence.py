@@ -183,11 +183,11 @@ def resume(slave, blob, target, signal, k0, n):
     return rows
 
 
-def cosim(dist, aware, n=2000):
+def cosim(dist, aware, names, n=2000):
     """PendulumImpactDamperUnit on floor 3 of ShearBuilding (3 storeys), Gauss-Seidel: the unit
     steps with the floor's absolute acceleration, the building with the unit's force (and its
-    impulse when impulse-aware)."""
-    unit = Slave(dist / "PendulumImpactDamperUnit.fmu", {"impulse_aware": aware, "e": 0.8, "d": 0.02})
+    impulse when impulse-aware); rows of the unit's outputs `names` and the floors'."""
+    unit = Slave(dist / "PendulumImpactDamperUnit.fmu", {"impulse_aware": aware, "e": 0.8, "d": 0.02}, names)
     bldg = Slave(*bare_building(dist, {"zeta_s": 0.02}), names=[f"floor[{k}].{q}" for q in "xva" for k in (1, 2, 3)])
     rows = []
     a_s = 0.0
@@ -284,6 +284,7 @@ def main(argv=None):
                 missing = sorted(set(values_old) - variables(fmu_old))
                 if missing:  # a case of a capability the old tree does not have (its FMU lacks the variables)
                     lines.append(f"| FMU: {name} | | | | new in this tree (the old FMU has no {', '.join(missing)}) |")
+                    print(lines[-1], flush=True)
                     continue
                 names = shared_outputs(fmu_old, fmu_new)
                 old, old_rerun, blob = run_scene(fmu_old, values_old, target, signal, n, third, names)
@@ -315,9 +316,10 @@ def main(argv=None):
                     continue
                 row(f"FMU: {name}, old build's state into the new build", old_rerun, crossed,
                     lambda: fmu_sensitivity("rest"))
+            unit_names = shared_outputs(*(d / "PendulumImpactDamperUnit.fmu" for d in (dist_old, dist_new)))
             for aware in (0, 1):
-                row(f"FMU: unit + 3-storey building, impulse_aware={aware}", cosim(dist_old, aware),
-                    cosim(dist_new, aware))
+                row(f"FMU: unit + 3-storey building, impulse_aware={aware}", cosim(dist_old, aware, unit_names),
+                    cosim(dist_new, aware, unit_names))
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=True)
     if args.out:

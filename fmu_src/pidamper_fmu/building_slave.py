@@ -20,7 +20,6 @@ import uuid
 from operator import mul
 
 from pythonfmu import Real
-from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
 from pidamper_physics.params import FLOOR_MASS, MAX_STOREYS, STOREY_HEIGHT, STOREY_STIFFNESS
@@ -29,7 +28,6 @@ from pidamper_physics.storeys import GRAVITY, check_damping, check_storeys
 from pidamper_physics.yielding import YieldingMotion
 
 from .adapter import ComponentSlave
-from .common import fmi_text
 from .storey_tables import yielding_outputs, yielding_parameters
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
@@ -145,9 +143,6 @@ class ShearBuildingSlave(ComponentSlave):
         return (*x, *v, *a, *core.b.drift_ratios(x), *pk.drift, *pk.velocity, *pk.acceleration,
                 *core.storey_forces(), *core.plastic_drifts(), core.hysteretic, core.collapsed, core.energy(),
                 core.viscous, core.work_in, core.base_shear())
-
-    def _warn(self, text):
-        self.log(fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.warning)
 
 
 def _model(n):

@@ -23,7 +23,8 @@ from pidamper_physics import ParameterError
 
 UNITS = {"s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "m": {"m": 1}, "m/s2": {"m": 1, "s": -2}, "kg": {"kg": 1}, "1": {},
          "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "N": {"kg": 1, "m": 1, "s": -2},
-         "J": {"kg": 1, "m": 2, "s": -2}, "N/m": {"kg": 1, "s": -2}, "N.s": {"kg": 1, "m": 1, "s": -1}}
+         "J": {"kg": 1, "m": 2, "s": -2}, "N/m": {"kg": 1, "s": -2}, "N.s": {"kg": 1, "m": 1, "s": -1},
+         "Pa": {"kg": 1, "m": -1, "s": -2}}
 
 TIME_TOLERANCE = 1e-9  # relative mismatch of a step's start time accepted from a host
 
@@ -39,6 +40,13 @@ def fmi_text(text, native):
     2.1.5), so a bare '%' would make the host read arguments that are not there (seen as a crash
     in fmpy); the native layer passes it as an argument, so the text goes as it is."""
     return text if native else text.replace("%", "%%")
+
+
+def long_contact(t, duration, period):
+    """The warning for a contact that is not short against the primary's period (impact.Tally)."""
+    return (f"the impact at t = {t!r} s lasts {duration:.3g} s, {duration / period:.1%} of the primary's period "
+            f"{period:.4g} s: the instantaneous impact the model applies then misplaces its impulse (a stiffer or "
+            "larger contact surface, R, shortens it); warned once")
 
 
 def guarded(default):
@@ -113,6 +121,10 @@ class FmiEntry:
         """Log a refused call at error level (the native layer then answers fmi2Error)."""
         text = str(err) if isinstance(err, (Refusal, ParameterError)) else f"{type(err).__name__}: {err}"
         self.log(fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.error)
+
+    def _warn(self, text):
+        """Log a warning through the FMI logger (the run goes on)."""
+        self.log(fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.warning)
 
     def _core_now(self):
         if self._core is None:

@@ -10,9 +10,10 @@ from pythonfmu import Integer, Real
 from pidamper_physics import DEFAULTS, INITIAL_DEFAULTS, SmallAngleMonitor
 from pidamper_physics.params import FLOOR_MASS, STOREY_HEIGHT, STOREY_STIFFNESS
 
+from .contact_tables import CONTACT_OUTPUTS, MATERIAL_DEFAULTS, MATERIALS
 from .storey_tables import yielding_outputs, yielding_parameters
 
-START = {**DEFAULTS, **INITIAL_DEFAULTS, "angle_limit": SmallAngleMonitor.DEFAULT_LIMIT}
+START = {**DEFAULTS, **INITIAL_DEFAULTS, **MATERIAL_DEFAULTS, "angle_limit": SmallAngleMonitor.DEFAULT_LIMIT}
 
 # name, unit, description: held over each communication step
 INPUTS = (("F", "N", "horizontal force on the primary mass (a building: on the damper floor)"),
@@ -27,7 +28,7 @@ _PARAMETERS = (
     ("FR", Real, "1", 0.0, None, "frequency ratio w1/w2 (> 0); particle length L1 = L2/FR^2"),
     ("d", Real, "m", 0.0, None, "clearance, displacement form: contact at x - y = +-d (> 0)"),
     ("d_angle", Real, "rad", 0.0, None, "clearance, angle form: contact at theta - alpha = +-d_angle (> 0)"),
-    ("e", Real, "1", 0.0, 1.0, "coefficient of restitution in [0, 1] (tunable)"),
+    ("e", Real, "1", 0.0, 1.0, "coefficient of restitution in [0, 1] (tunable; the law with restitution = 0)"),
     ("contact_form", Integer, None, 0, 1, "0 = displacement form (default), 1 = angle form as printed in the paper"),
     ("F0", Real, "N", None, None, "amplitude of the built-in harmonic force F0 sin(Omega t + phi)"),
     ("Omega", Real, "rad/s", 0.0, None, "frequency of the built-in harmonic force (>= 0)"),
@@ -43,7 +44,7 @@ _PARAMETERS = (
                                     "2 zeta_p m w1 (fidelity >= 1; < 1)"),
     ("angle_limit", Real, "rad", 0.0, None, "swing beyond which the linear (small-angle) model warns, once per run "
                                             "(0.4 rad: its frequency is then 1 % off; 0 = never)"),
-)
+) + MATERIALS
 #: parameters of the pendulum primary only
 PENDULUM_ONLY = ("M", "L2", "d_angle", "contact_form", "theta_0", "theta_dot_0")
 #: a building's own wording (min, max, description) of the parameters it shares
@@ -75,7 +76,7 @@ OUTPUTS = (
     ("energy_dissipated", Real, "J", "energy dissipated by impacts so far", False),
     ("impacts", Integer, None, "impacts applied so far (chatter impacts included)", False),
     ("contact", Integer, None, "0 free, +1/-1 particle riding that stop", False),
-)
+) + CONTACT_OUTPUTS
 DERIVED = (
     ("x", Real, "m", "primary displacement (linear levels: L2*theta; nonlinear: L2 sin(theta))", False),
     ("y", Real, "m", "particle displacement (linear, damped: L1*alpha; coupled: x + L1*alpha; nonlinear: "
@@ -101,7 +102,7 @@ _BUILDING_OUTPUTS = {
 
 # Per-step impact record: local variables (hosts do not record them by default; any host reads them
 # by name after fmi2DoStep).  Slots beyond impacts_in_step hold zeros.  The Real fields of all slots
-# come first (slot-major), then the sides.
+# come first (slot-major), then the sides, then the plastic flags.
 IMPACT_SLOTS = 16
 IMPACT_REALS = (
     ("t", "s", "time"),
@@ -109,10 +110,17 @@ IMPACT_REALS = (
     ("v_rel_after", "m/s", "particle minus primary velocity after"),
     ("energy_lost", "J", "energy lost"),
     ("theta", "rad", "primary angle"),
+    ("e", "1", "restitution applied"),
+    ("force_peak", "N", "peak contact force (0 without materials)"),
+    ("pressure_peak", "Pa", "peak contact pressure (0 without materials)"),
+    ("duration", "s", "contact duration (0 without materials)"),
 )
 RECORD = tuple((f"impact[{k + 1}].{field}", Real, unit, f"impact {k + 1} of the last step: {desc}")
                for k in range(IMPACT_SLOTS) for field, unit, desc in IMPACT_REALS) + tuple(
     (f"impact[{k + 1}].side", Integer, None, f"impact {k + 1} of the last step: stop hit, +1 (z = +d) or -1 (z = -d)")
+    for k in range(IMPACT_SLOTS)) + tuple(
+    (f"impact[{k + 1}].plastic", Integer, None, f"impact {k + 1} of the last step: 1 if its contact yielded the "
+                                                "softer body, else 0")
     for k in range(IMPACT_SLOTS))
 
 

@@ -4,10 +4,13 @@ Fmi2Slave that is a thin adapter over Damper.
 PendulumImpactDamper is the paper's two-pendulum system: inputs F [N] and a_g [m/s2] (ground
 acceleration of a base excitation: it acts on both bodies, whose x and y are then measured from the
 ground); parameters g, M, mu, L2, FR, d, d_angle, e (tunable), contact_form, F0, Omega, phi,
-fidelity, zeta_s, zeta_p, angle_limit and the initial state theta_0, theta_dot_0, alpha_0,
-alpha_dot_0; outputs theta, theta_dot, alpha, alpha_dot, a, contact_force, energy,
-energy_dissipated, impacts, contact; local variables x, y, z, energy_viscous, work_in,
-impacts_in_step, impacts_unrecorded and impact[k].* (the impacts of the last step).  A subclass
+fidelity, zeta_s, zeta_p, angle_limit, the initial state theta_0, theta_dot_0, alpha_0,
+alpha_dot_0 and the materials (restitution, S_y, E1, nu1, E2, nu2, R, e_max: contact_tables.py);
+outputs theta, theta_dot, alpha, alpha_dot, a, contact_force, energy, energy_dissipated, impacts,
+contact, impact_force_peak, contact_pressure_peak, impacts_plastic; local variables x, y, z,
+energy_viscous, work_in, impacts_in_step, impacts_unrecorded and impact[k].* (the impacts of the
+last step, with each contact's e, peak force and pressure, duration and plastic flag).  A contact
+not short against the primary's period is warned about once.  A subclass
 with STOREYS = N >= 1 (damped_building_slave.py: DampedShearBuilding<N>) hangs the particle from a
 floor of an N-storey shear building instead: the same names, exactly N floors' and storeys'
 variables (particle_tables.py).
@@ -26,13 +29,12 @@ import struct
 import uuid
 
 from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Real
-from pythonfmu.enums import Fmi2Status
 from pythonfmu.default_experiment import DefaultExperiment
 
 from pidamper_physics import Damper, ParameterError, Params, SmallAngleMonitor
 from pidamper_physics.params import NONLINEAR, check_finite, check_restitution
 
-from .common import FmiEntry, Refusal, describe, fmi_text, guarded
+from .common import FmiEntry, Refusal, describe, guarded, long_contact
 from .particle_tables import DERIVED, IMPACT_REALS, IMPACT_SLOTS, INPUTS, OUTPUTS, RECORD, START, tables
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
@@ -43,8 +45,8 @@ NR = len(IMPACT_REALS)
 # the native layer's buffer is a double per value reference (Integer values too, the layer converts
 # them): the outputs, and the record, each have consecutive value references, so one pack fills each
 _PACK_RECORD = struct.Struct(f"={len(RECORD)}d")
-_ZERO_RECORD = (0.0,) * (NR * IMPACT_SLOTS) + (0,) * IMPACT_SLOTS
-_STATE_EXTRA = ("F", "a_g", "_t0", "_initialized", "_core", "_in_step", "_record", "_monitor")
+_ZERO_RECORD = (0.0,) * (NR * IMPACT_SLOTS) + (0,) * (2 * IMPACT_SLOTS)  # reals, sides, plastic flags
+_STATE_EXTRA = ("F", "a_g", "_t0", "_initialized", "_core", "_in_step", "_record", "_monitor", "_held")
 
 
 class ParticleSlave(FmiEntry, Fmi2Slave):
@@ -87,7 +89,8 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
             derived = len(OUTPUTS) <= k < len(OUTPUTS) + len(DERIVED)
             causality = Fmi2Causality.local if derived else Fmi2Causality.output
             self._register_computed(name, kind, causality, self._output_getter(k))
-        self._record_values = list(_ZERO_RECORD)  # slot-major Real fields, then the sides
+        self._record_values = list(_ZERO_RECORD)  # slot-major Real fields, then the sides and plastic flags
+        self._long_warned = False  # a contact not short against the primary's period was warned about
         self._held = None  # a collapsed building's outputs, held
         self._in_step = 0
         self._record_in_buffer = True  # the buffer may hold a non-zero record: write it at the next push
@@ -142,8 +145,10 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
     def _live_outputs(self, c):
         theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force = c.observables(self.F, self.a_g)
         n = self._in_step
+        tally = c.contacts
+        contacts = (0.0, 0.0, 0) if tally is None else (tally.force_peak, tally.pressure_peak, tally.plastic)
         out = (theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact,
-               x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
+               *contacts, x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
         return out + self._building_outputs(c) if self.STOREYS else out
 
     def _building_outputs(self, c):
@@ -165,9 +170,15 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         n = self._in_step
         if n < IMPACT_SLOTS:
             j = NR * n
+            core = self._core
             record = self._record_values
-            record[j:j + NR] = (t, v_rel_before, v_rel_after, loss, self._core.angles()[0])
+            if core.contacts is None:
+                e, force, pressure, duration, plastic = core.e_applied, 0.0, 0.0, 0.0, False
+            else:
+                e, force, pressure, duration, plastic = core.contacts.hit
+            record[j:j + NR] = (t, v_rel_before, v_rel_after, loss, core.angles()[0], e, force, pressure, duration)
             record[NR * IMPACT_SLOTS + n] = side
+            record[(NR + 1) * IMPACT_SLOTS + n] = int(plastic)
         self._in_step = n + 1
 
     def _clear_record(self):
@@ -227,7 +238,13 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         self._check_time(current_time, t, step_size)
         if self._in_step:
             self._clear_record()
+        contacts = core.contacts
+        if contacts is not None:
+            contacts.clear()
         core.advance(max(current_time + step_size, t), force, ground)
+        if contacts is not None and contacts.long_contact is not None and not self._long_warned:
+            self._long_warned = True
+            self._warn(long_contact(*contacts.long_contact))
         if core.halted and self._held is None:  # collapsed in this step: its outputs hold from here
             self._held = self._live_outputs(core)
         monitor = self._monitor
@@ -254,9 +271,6 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         if summary:
             self._warn(summary)
 
-    def _warn(self, text):
-        self.log(fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.warning)
-
     def _collapsed(self, t, reason):
         self._warn(f"the building collapsed at t = {t!r} s: {reason}; every output holds its value from then")
 
@@ -274,6 +288,7 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         state["_record"] = list(self._record_values)
         monitor = self._monitor if self._initialized else None
         state["_monitor"] = None if monitor is None else monitor.get_state()
+        state["_held"] = None if self._held is None else list(self._held)  # a collapsed building's outputs
         return state
 
     def _restore(self, state):
@@ -290,6 +305,12 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
                           f"{len(_ZERO_RECORD)} numbers and an integer >= 0")
         for k, value in enumerate(record):
             check_finite(f"FMU state _record[{k}]", value)
+        held = state["_held"]
+        if held is not None:
+            if not isinstance(held, list) or len(held) != len(self.COMPUTED):
+                raise Refusal(f"FMU state _held = {held!r} is not allowed: None or {len(self.COMPUTED)} numbers")
+            for k, value in enumerate(held):
+                check_finite(f"FMU state _held[{k}]", value)
         for name, *_ in self.PARAMETERS:
             setattr(self, name, state[name])
         self.F = state["F"]
@@ -312,6 +333,8 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
                 if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and v == v for v in bars):
                     raise Refusal(f"FMU state _monitor = {monitor!r} is not allowed: two numbers after the flag")
                 self._monitor.set_state([bool(monitor[0])] + [float(v) for v in bars])
+            if held is not None:  # the outputs a collapsed building holds, as they were at its collapse
+                self._held = tuple(held)
 
     # ---- modelDescription -----------------------------------------------------------
 

@@ -1,9 +1,10 @@
 """PendulumImpactDamperUnit: the particle and its stops alone, for a structure modelled elsewhere
 (a thin adapter over pidamper_physics.unit.DamperUnit; conventions of adapter.py / slave.py).
 
-Parameters m, M_s, L1, g, d, e (tunable), zeta_p, impulse_aware, r_0, r_dot_0; input a_s
-(absolute acceleration of the attachment, held over the step); outputs F_s, J_s, t_J, r, r_dot,
-impacts, contact, energy_dissipated; local impacts_in_step.  See the physics module for the
+Parameters m, M_s, L1, g, d, e (tunable), zeta_p, impulse_aware, r_0, r_dot_0 and the materials
+(contact_tables.py); input a_s (absolute acceleration of the attachment, held over the step); outputs
+F_s, J_s, t_J, r, r_dot, impacts, contact, energy_dissipated, impact_force_peak,
+contact_pressure_peak, impacts_plastic; local impacts_in_step.  See the physics module for the
 impact law and the two coupling modes.
 """
 import uuid
@@ -14,6 +15,8 @@ from pythonfmu.default_experiment import DefaultExperiment
 from pidamper_physics.unit import DEFAULTS, DamperUnit
 
 from .adapter import ComponentSlave
+from .common import long_contact
+from .contact_tables import CONTACT_OUTPUTS, MATERIALS
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
@@ -27,7 +30,8 @@ PARAMETERS = tuple((name, kind, DEFAULTS[name], unit, lo, hi, desc, name == "e")
     ("L1", Real, "m", 0.0, None, "particle pendulum length (> 0): w1 = sqrt(g/L1)"),
     ("g", Real, "m/s2", 0.0, None, "gravitational acceleration (> 0)"),
     ("d", Real, "m", 0.0, None, "clearance: stops at r = +-d (> 0)"),
-    ("e", Real, "1", 0.0, 1.0, "coefficient of restitution of the two-body impact law, [0, 1] (tunable)"),
+    ("e", Real, "1", 0.0, 1.0, "coefficient of restitution of the two-body impact law, [0, 1] (tunable; the law "
+                               "with restitution = 0)"),
     ("zeta_p", Real, "1", 0.0, 1.0, "damping ratio of the particle relative to the attachment, dashpot "
                                     "2 zeta_p m w1 ([0, 1))"),
     ("impulse_aware", Integer, None, 0, 1,
@@ -36,7 +40,7 @@ PARAMETERS = tuple((name, kind, DEFAULTS[name], unit, lo, hi, desc, name == "e")
      "unit jumps the attachment too (full two-body law in its frame)"),
     ("r_0", Real, "m", None, None, "initial particle position relative to the attachment (|r_0| <= d)"),
     ("r_dot_0", Real, "m/s", None, None, "initial particle velocity relative to the attachment"),
-))
+) + MATERIALS)
 
 INPUTS = (("a_s", 0.0, "m/s2", "absolute acceleration of the attachment, held over each step"),)
 
@@ -50,6 +54,7 @@ COMPUTED = (
     ("impacts", Integer, None, "impacts so far (chatter impacts and collapses included)", True, ()),
     ("contact", Integer, None, "0 free, +1/-1 particle riding that stop", True, ()),
     ("energy_dissipated", Real, "J", "energy dissipated by the impacts so far (two-body law)", True, ()),
+) + tuple((name, kind, unit, desc, True, ()) for name, kind, unit, desc, _ in CONTACT_OUTPUTS) + (
     ("impacts_in_step", Integer, None, "impacts of the last step", False, ()),
 )
 
@@ -71,6 +76,7 @@ class PendulumImpactDamperUnit(ComponentSlave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.guid = uuid.uuid5(uuid.NAMESPACE_URL, f"pidamper/{MODEL}/" + SOURCE_HASH)
+        self._long_warned = False  # a contact not short against the particle's period was warned about
 
     def _build_core(self):
         values = self._values
@@ -80,9 +86,15 @@ class PendulumImpactDamperUnit(ComponentSlave):
 
     def _advance(self, core, t_end):
         core.advance(t_end, self._values["a_s"])
+        contacts = core.contacts
+        if contacts is not None and contacts.long_contact is not None and not self._long_warned:
+            self._long_warned = True
+            self._warn(long_contact(*contacts.long_contact).replace("primary's", "particle's"))
 
     def _tune(self, core, name, value):
         core.set_restitution(value)
 
     def _computed(self, c):
-        return (c.F_s, c.J_s, c.t_J, c.r, c.rd, c.impacts, c.contact, c.dissipated, c.impacts_in_step)
+        tally = c.contacts
+        contacts = (0.0, 0.0, 0) if tally is None else (tally.force_peak, tally.pressure_peak, tally.plastic)
+        return (c.F_s, c.J_s, c.t_J, c.r, c.rd, c.impacts, c.contact, c.dissipated, *contacts, c.impacts_in_step)

@@ -244,6 +244,10 @@ class BuildingModel(LevelModel):
     def snap(self, x, v, y, u, side):
         return x, v, x - side * self.p.d, u
 
+    def approach(self, x, v, y, u):
+        mu = self.mu_j
+        return u - v, self.p.M * mu / (1.0 + mu)  # the particle on its floor (p.M: that floor's mass)
+
     def collide(self, x, v, y, u, side, e):
         mu = self.mu_j
         v1, u1 = collide(v, u, mu, e)

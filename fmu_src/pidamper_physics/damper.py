@@ -25,18 +25,25 @@ losses of every impact and collapse; `work_in` adds the energy change over each
 smooth segment, which equals the integral of F v dt over it, because no
 force but the applied ones does work between events.  Hence
 E(0) + work_in - E(t) = dissipated up to rounding.
+
+Materials (Params.materials, impact.Contact): each impact's e may come from its approach speed and
+reduced mass (LevelModel.approach), and its peak force, pressure and duration are booked in
+`contacts` (impact.Tally); the constant-e motion is the same with or without them.
 """
 import math
 
 from .levels import model_for
 from .params import DISPLACEMENT, Params, ParameterError, check_finite, check_restitution
 from .segments import GAP_RESOLUTION, TOLERANCE
+from .impact import Tally, tally
 from .stepping import CHATTER_HEIGHT, FREE, MAX_PIECES, OUTSIDE, STICK, EventDriven
 
 __all__ = ["Damper", "check_state", "FREE", "STICK", "OUTSIDE", "CHATTER_HEIGHT", "MAX_PIECES", "STATE_KEYS"]
 
 STATE_KEYS = ("t", "t_lo", "x", "v", "y", "u", "mode", "side", "fresh", "impacts", "dissipated",
               "work_in", "viscous", "energy")
+#: keys a state of an older build may lack, and their values then
+_OPTIONAL = {"t_lo": 0.0}
 
 
 _STATE_CHOICES = {"mode": (FREE, STICK, OUTSIDE), "side": (-1, 0, 1), "fresh": (False, True)}
@@ -49,7 +56,7 @@ def check_state(state):
         raise ParameterError("state", type(state).__name__, "it must be the dict Damper.get_state writes")
     for key in STATE_KEYS + ("step_hint",):
         if key not in state:
-            if key == "t_lo":
+            if key in _OPTIONAL:
                 continue
             raise ParameterError(f"state {key}", None, "the key is missing: a state this model did not write")
         value = state[key]
@@ -95,6 +102,10 @@ class Damper(EventDriven):
         self.energy0 = self.energy
         self.on_impact = None  # optional callback(t, side, rel_before, rel_after, loss)
         self.on_collapse = None  # optional callback(t, reason): a yielding building collapsed
+        # what the impacts' contacts did (impact.Tally), with the materials given; the primary's
+        # (first) period: w1 = FR w_primary
+        self.contacts = tally(p.materials, 2.0 * math.pi * p.FR / p.w1)
+        self.e_applied = p.e  # the restitution of the last impact
         # longest segment: one period of the fastest motion keeps trig arguments (and
         # so rounding) small and the derivative bounds tight
         self._max_span = 2.0 * math.pi / model.fastest
@@ -216,20 +227,25 @@ class Damper(EventDriven):
 
     def get_state(self):
         """Plain dict (JSON-safe) of everything that determines the future motion: the keys of
-        STATE_KEYS and the level's own (LevelModel.get_state)."""
+        STATE_KEYS, the level's own (LevelModel.get_state) and, with materials, Tally's."""
         state = {k: getattr(self, k) for k in STATE_KEYS}
         state.update(self.model.get_state())
+        if self.contacts is not None:
+            state.update(self.contacts.get_state())
         return state
 
     def set_state(self, state):
         """Restore a dict get_state() wrote; anything else is refused (ParameterError naming the
         key, its value and the rule) before the state changes."""
         check_state(state)
+        contacts = None if self.contacts is None else Tally.check_state(state)
         self.model.set_state(state)  # checks its own keys before it changes anything
+        if contacts is not None:
+            self.contacts.set_state(contacts)
         self._may_coast = True
         self.halted = bool(self.model.collapsed)
         for k in STATE_KEYS:
-            setattr(self, k, state.get(k, 0.0) if k == "t_lo" else state[k])
+            setattr(self, k, state.get(k, _OPTIONAL.get(k)))
 
     # ---- internals --------------------------------------------------------------------
 
@@ -337,7 +353,12 @@ class Damper(EventDriven):
         self.x, self.v, self.y, self.u = self.model.snap(self.x, self.v, self.y, self.u, side)
 
     def _impact(self, side):
-        state, loss, before, after = self.model.collide(self.x, self.v, self.y, self.u, side, self.p.e)
+        e, contacts = self.p.e, self.contacts
+        self.e_applied = e
+        if contacts is not None:
+            w, mass = self.model.approach(self.x, self.v, self.y, self.u)
+            e = self.e_applied = contacts.impact(self.t, w, mass, e, True)
+        state, loss, before, after = self.model.collide(self.x, self.v, self.y, self.u, side, e)
         self.x, self.v, self.y, self.u = state
         self.impacts += 1
         self._account(loss)
@@ -351,6 +372,9 @@ class Damper(EventDriven):
         state, loss, before, _ = self.model.collide(self.x, self.v, self.y, self.u, side, 0.0)
         if before == 0.0:
             return
+        self.e_applied = 0.0
+        if counted and self.contacts is not None:
+            self.contacts.impact(self.t, before, self.model.approach(self.x, self.v, self.y, self.u)[1], 0.0, False)
         self.x, self.v, self.y, self.u = state
         self._account(loss)
         self._halt_if_collapsed()

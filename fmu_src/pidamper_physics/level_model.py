@@ -73,6 +73,12 @@ class LevelModel:
         """(state after, loss [J], relative velocity before, after) of an impact of restitution e."""
         raise NotImplementedError
 
+    def approach(self, x, v, y, u):
+        """(relative velocity [m/s] the impact law acts on, the impact's reduced mass [kg]): the
+        particle on the primary, m* = M mu / (1 + mu)."""
+        p = self.p
+        return u - v, p.M * p.mu / (1.0 + p.mu)
+
     # ---- observables ----------------------------------------------------------------------
 
     def energy(self, x, v, y, u):

@@ -271,6 +271,12 @@ class NonlinearModel(LevelModel):
             y -= (math.sin(y) - target) / math.cos(y)
         return x, v, y, u
 
+    def approach(self, x, v, y, u):
+        """(yp' - xb' [m/s], the effective mass of the impact along the stop's normal [kg])."""
+        p, mu = self.p, self.mu
+        cf = math.cos(y)
+        return self.L1 * cf * u, p.M * mu * (1.0 + mu * math.sin(x - y) ** 2) / ((1.0 + mu) * cf * cf)
+
     def collide(self, x, v, y, u, side, e):
         """Newton's law on the horizontal normal of the stop: (state after, loss [J], relative
         velocity yp' - xb' before and after [m/s])."""

@@ -20,6 +20,7 @@ top floor), whose mass is then M; M, L2 and the pendulum primary's w2 play no pa
 import math
 
 from .building import ShearBuilding
+from .impact import MATERIAL_DEFAULTS, MATERIAL_NAMES, check_contact
 from .refusals import ParameterError, check_finite
 from .storeys import COLLAPSE_DRIFT, HARDENING, check_damping, check_storeys
 
@@ -66,19 +67,27 @@ class Params:
 
     NAMES = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi", "fidelity",
              "zeta_s", "zeta_p", "storeys", "damper_floor", "floor_m", "storey_k", "storey_h", "storey_Fy", "storey_b",
-             "p_delta", "collapse_drift")
+             "p_delta", "collapse_drift") + MATERIAL_NAMES
 
     def __init__(self, g=DEFAULTS["g"], M=DEFAULTS["M"], mu=DEFAULTS["mu"], L2=DEFAULTS["L2"],
                  FR=DEFAULTS["FR"], d=DEFAULTS["d"], d_angle=DEFAULTS["d_angle"], e=DEFAULTS["e"],
                  contact_form=DEFAULTS["contact_form"], F0=DEFAULTS["F0"], Omega=DEFAULTS["Omega"],
                  phi=DEFAULTS["phi"], fidelity=DEFAULTS["fidelity"], zeta_s=DEFAULTS["zeta_s"],
                  zeta_p=DEFAULTS["zeta_p"], storeys=0, damper_floor=0, floor_m=None, storey_k=None, storey_h=None,
-                 storey_Fy=None, storey_b=None, p_delta=0, collapse_drift=COLLAPSE_DRIFT):
+                 storey_Fy=None, storey_b=None, p_delta=0, collapse_drift=COLLAPSE_DRIFT, **materials):
         for name in ("g", "M", "L2", "FR", "d", "d_angle"):
             _positive(name, locals()[name])
         if check_finite("mu", mu) < 0.0:
             raise ParameterError("mu", mu, "it must be >= 0 (0 means no damper)")
         check_restitution(e)
+        unknown = sorted(set(materials) - set(MATERIAL_NAMES))
+        if unknown:
+            raise TypeError(f"Params got unexpected keyword arguments {unknown}")
+        materials = {**MATERIAL_DEFAULTS, **materials}
+        #: the particle-stop materials (impact.Contact), or None: the constant e, no forces
+        self.materials = check_contact(**materials)
+        for name, value in materials.items():
+            setattr(self, name, value)
         if contact_form not in (DISPLACEMENT, ANGLE) or isinstance(contact_form, bool):
             raise ParameterError("contact_form", contact_form, "it must be 0 (displacement) or 1 (angle as printed)")
         check_finite("F0", F0)

@@ -36,6 +36,11 @@ does with its own relative motion depends on how the host passes the impulse on
   never carries the impulse, so the unit jumps the attachment too: the full two-body law acts in
   its frame, r' -> -e w, exactly as in a monolithic model.
 
+With the materials given (impact.MATERIAL_NAMES: restitution, S_y, E1, nu1, E2, nu2, R, e_max) the
+restitution may come from each impact's approach speed and reduced mass m M_s / (m + M_s)
+(impact.Contact), and each impact's peak force, pressure and duration are booked (impact.Tally:
+largest of the step, plastic count), as in every particle model.
+
 Chatter collapses into sticking by the rule of damper.py (a rebound that would rise less than
 CHATTER_HEIGHT position-rounding units while the particle is pressed into the stop ends the
 sequence with a plastic impact: relative velocity to zero, by the mode's law); the unit steps with
@@ -54,7 +59,7 @@ Plain Python (math): this ships inside the FMU.
 """
 import math
 
-from .impact import plastic_in_unit_frame, relative
+from .impact import MATERIAL_DEFAULTS, MATERIAL_NAMES, Tally, check_contact, plastic_in_unit_frame, relative, tally
 from .oscillator import DampedOscillator
 from .params import SCALE_RANGE, ZETA_GAP, ParameterError, check_finite, check_restitution
 from .segments import GAP_RESOLUTION, TOLERANCE, noise_size
@@ -66,7 +71,7 @@ IMPULSE_AWARE = 1
 #: default parameters of the unit (the FMU's start values): a 6 t particle (2 % of the default
 #: ShearBuilding's 300 t) on a 1 m wire in a +-5 cm gap, hung from a 100 t floor
 DEFAULTS = {"m": 6000.0, "M_s": 1e5, "L1": 1.0, "g": 9.81, "d": 0.05, "e": 0.5, "zeta_p": 0.0,
-            "impulse_aware": MEAN_FORCE, "r_0": 0.0, "r_dot_0": 0.0}
+            "impulse_aware": MEAN_FORCE, "r_0": 0.0, "r_dot_0": 0.0, **MATERIAL_DEFAULTS}
 
 STATE_KEYS = ("t", "r", "rd", "mode", "side", "fresh", "impacts", "dissipated", "F_s", "J_s", "t_J",
               "impacts_in_step")
@@ -145,7 +150,8 @@ class DamperUnit(EventDriven):
 
     def __init__(self, m=DEFAULTS["m"], M_s=DEFAULTS["M_s"], L1=DEFAULTS["L1"], g=DEFAULTS["g"], d=DEFAULTS["d"],
                  e=DEFAULTS["e"], zeta_p=DEFAULTS["zeta_p"], impulse_aware=DEFAULTS["impulse_aware"],
-                 r_0=DEFAULTS["r_0"], r_dot_0=DEFAULTS["r_dot_0"], t0=0.0):
+                 r_0=DEFAULTS["r_0"], r_dot_0=DEFAULTS["r_dot_0"], t0=0.0, **materials):
+        """materials: impact.MATERIAL_NAMES (restitution from the impact, its forces)."""
         lo, hi = SCALE_RANGE
         m = check_finite("m", m)
         if m < 0.0 or (m != 0.0 and not lo <= m <= hi):
@@ -173,6 +179,12 @@ class DamperUnit(EventDriven):
         self.m, self.M_s, self.L1, self.g, self.d, self.e, self.zeta_p = m, M_s, L1, g, d, e, zeta_p
         self.impulse_aware = int(impulse_aware)
         self.w = w
+        unknown = sorted(set(materials) - set(MATERIAL_NAMES))
+        if unknown:
+            raise TypeError(f"DamperUnit got unexpected keyword arguments {unknown}")
+        # what the impacts' contacts did (impact.Tally), with the materials given; the unit does not
+        # know the structure's period: contacts are measured against the particle's own
+        self.contacts = tally(check_contact(**{**MATERIAL_DEFAULTS, **materials}), 2.0 * math.pi / w)
         self.mu = m * M_s / (m + M_s)  # reduced mass of the impact law
         self._start_clock(check_finite("start time", t0))
         self.r, self.rd = r_0, r_dot_0
@@ -201,6 +213,8 @@ class DamperUnit(EventDriven):
         h = t_end - t0
         rd_start = self.rd
         self._sums = [0.0, 0.0, 0.0]  # sum J, sum |J|, sum |J| (t - t0)
+        if self.contacts is not None:
+            self.contacts.clear()
         impacts = self.impacts
         # Within a call the clock counts the time elapsed since t0 (the unit's physics is
         # autonomous: no forcing phase to keep), as earlier builds did, so their outputs hold
@@ -227,7 +241,10 @@ class DamperUnit(EventDriven):
                                  f"{self.t!r} s")
 
     def get_state(self):
-        return {k: getattr(self, k) for k in STATE_KEYS}
+        state = {k: getattr(self, k) for k in STATE_KEYS}
+        if self.contacts is not None:
+            state.update(self.contacts.get_state())
+        return state
 
     def set_state(self, state):
         if not isinstance(state, dict):
@@ -244,8 +261,11 @@ class DamperUnit(EventDriven):
                     raise ParameterError(f"state {key}", value, "it must be an integer >= 0")
             else:
                 check_finite(f"state {key}", value)
+        contacts = None if self.contacts is None else Tally.check_state(state)
         for key in STATE_KEYS:
             setattr(self, key, state[key])
+        if contacts is not None:
+            self.contacts.set_state(contacts)
 
     # ---- internals (the hooks of stepping.EventDriven) ---------------------------------------
 
@@ -285,8 +305,10 @@ class DamperUnit(EventDriven):
 
     def _impact(self, side):
         """Newton's two-body law at approach velocity w = r' (see the module doc)."""
-        w = self.rd
-        J, after, loss = relative(w, self.m, self.M_s, self.mu, self.e, self.impulse_aware)
+        w, e = self.rd, self.e
+        if self.contacts is not None:
+            e = self.contacts.impact(self._now(), w, self.mu, e, True)
+        J, after, loss = relative(w, self.m, self.M_s, self.mu, e, self.impulse_aware)
         if after * side > 0.0:  # m > e M_s: still approaching in the unit's frame: plastic there
             J, after, loss = plastic_in_unit_frame(w, self.m, self.M_s)
         self.rd = after
@@ -301,6 +323,8 @@ class DamperUnit(EventDriven):
         w = self.rd
         if w == 0.0:
             return
+        if counted and self.contacts is not None:
+            self.contacts.impact(self._now(), w, self.mu, 0.0, False)
         if self.impulse_aware:
             J, _, loss = relative(w, self.m, self.M_s, self.mu, 0.0, True)
         else:

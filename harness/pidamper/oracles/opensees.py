@@ -51,6 +51,15 @@ def load():
     return ops
 
 
+def available():
+    """None when OpenSeesPy loads, else the OpenSeesMissing message (a JSON-able check)."""
+    try:
+        load()
+    except OpenSeesMissing as err:
+        return str(err)
+    return None
+
+
 def staircase(samples, dt):
     """(times, values) of the held ground motion: sample i holds on [i dt, (i + 1) dt), two points at
     each jump (OpenSees `Path` interpolates linearly between its points)."""
@@ -154,6 +163,15 @@ def damped_shear_building(masses, stiffnesses, yield_forces, ratios, heights, ze
 
 #: the particle's node of damped_shear_building
 PARTICLE = 1000
+
+
+def roof_history(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta, samples, dt_record, dt,
+                 stop_time):
+    """The roof's displacement [m] at every dt_record instant of a shear_building under the held
+    ground motion `samples` (a JSON-able call for a child process: running.isolated)."""
+    shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta=p_delta)
+    _, x = run_building(len(masses), samples, dt_record, dt, stop_time, floors=[len(masses)])
+    return [row[0] for row in x]
 
 
 def run_building(model, samples, dt_record, dt, stop_time, floors=None):

@@ -24,7 +24,8 @@ from ..running.simulation import FmuError, floor_columns, run
 
 IMPACT_SLOTS = 16
 INPUTS = ("F", "a_g")  # state columns that come from the forcing, not from the FMU
-_SLOT_REALS = ("t", "v_rel_before", "v_rel_after", "energy_lost", "theta")
+_SLOT_REALS = ("t", "v_rel_before", "v_rel_after", "energy_lost", "theta", "e", "force_peak", "pressure_peak",
+               "duration")
 
 
 @dataclass
@@ -116,17 +117,17 @@ class Collector:
         self.storeys = storeys = sum(1 for n in names if n.startswith("floor[") and n.endswith("].x"))
         self.floor_cols = [names.index(n) for n in floor_columns(storeys)] if storeys else []
         self.vr_reals = [[vr[f"impact[{k + 1}].{f}"] for f in _SLOT_REALS] for k in range(IMPACT_SLOTS)]
-        self.vr_sides = [vr[f"impact[{k + 1}].side"] for k in range(IMPACT_SLOTS)]
+        self.vr_sides = [vr[f"impact[{k + 1}].{f}"] for f in ("side", "plastic") for k in range(IMPACT_SLOTS)]
         self.vr = vr
 
     def _take_impacts(self, fmu, n, total, t_step):
         k = min(n, IMPACT_SLOTS)
         reals = fmu.getReal([v for slot in self.vr_reals[:k] for v in slot])
-        sides = fmu.getInteger(self.vr_sides[:k])
+        ints = fmu.getInteger(self.vr_sides[:k] + self.vr_sides[IMPACT_SLOTS:IMPACT_SLOTS + k])
         first = total - n + 1
+        nr = len(_SLOT_REALS)
         for j in range(k):
-            t, before, after, lost, theta = reals[5 * j:5 * j + 5]
-            self.impacts.append((t, sides[j], before, after, lost, theta, first + j))
+            self.impacts.append((reals[nr * j], ints[j], *reals[nr * j + 1:nr * j + nr], ints[k + j], first + j))
         self.recorded += k
         if n > k:
             self.unrecorded += n - k

@@ -30,7 +30,7 @@ METADATA_NAME = "pidamper.run"
 TOPICS = ("/damper/state", "/damper/impacts", "/building/floors", "/run/info", "/run/notes", "/log", "/tf", "/scene")
 CHUNK_SIZE = 256 * 1024  # bytes before compression: a killed run loses at most one chunk
 
-_INT = {"contact", "impacts", "side", "index"}
+_INT = {"contact", "impacts", "side", "plastic", "index"}
 
 
 def _schema(title, fields, descriptions):
@@ -47,7 +47,10 @@ STATE_SCHEMA = _schema("pidamper.DamperState", STATE_FIELDS, {
     "energy_viscous": "J, by the dashpots (damped level on)", "work_in": "J"})
 IMPACT_SCHEMA = _schema("pidamper.Impact", IMPACT_FIELDS, {
     "t": "s", "side": "+1 or -1", "v_rel_before": "m/s, particle minus primary", "v_rel_after": "m/s",
-    "energy_lost": "J", "theta": "rad, primary angle at the impact", "index": "1-based impact number"})
+    "energy_lost": "J", "theta": "rad, primary angle at the impact", "e": "restitution applied",
+    "force_peak": "N, peak contact force (0 without materials)", "pressure_peak": "Pa, peak contact pressure",
+    "duration": "s, contact duration", "plastic": "1 if the contact yielded the softer body",
+    "index": "1-based impact number"})
 FLOORS_SCHEMA = {"title": "pidamper.BuildingFloors", "type": "object", "properties": {
     "time": {"type": "number", "description": "s"},
     "x": {"type": "array", "items": {"type": "number"}, "description": "m, floor displacements relative to the ground"},
@@ -182,9 +185,11 @@ class McapLog:
 
 def impact_text(row):
     """One log line for an impact row (a tuple in IMPACT_FIELDS order)."""
-    t, side, before, after, lost, theta, index = row
+    t, side, before, after, lost, theta, e, force, pressure, duration, plastic, index = row
+    contact = (f"; peak force {force:.4g} N, pressure {pressure / 1e6:.4g} MPa, {duration * 1e3:.4g} ms"
+               f"{', plastic' if plastic else ''}" if force else "")
     return (f"impact {index} at t = {t:.9f} s on stop {side:+d}: v_rel {before:+.6g} -> {after:+.6g} m/s, "
-            f"lost {lost:.6g} J")
+            f"e = {e:.4g}, lost {lost:.6g} J{contact}")
 
 
 def read_run(path):
@@ -239,5 +244,5 @@ def read_floors(path):
 def _to_array(rows, dtype):
     out = np.zeros(len(rows), dtype=dtype)
     for name in dtype.names:
-        out[name] = [row[name] for row in rows]
+        out[name] = [row.get(name, 0) for row in rows]  # fields a run of an older build lacks: 0
     return out

@@ -31,6 +31,8 @@ SERIES = (  # entity, state field, colour
     ("plots/impacts/count", "impacts", (200, 60, 50)),
 )
 MARKERS = "plots/angles/impacts"
+#: each impact's peak contact force [N] (runs with materials: geometry["contact"])
+CONTACT_FORCE = "plots/contact/force_peak"
 
 
 VIEWS = ("angles", "velocities", "energy", "force", "floors", "pendulum", "events")
@@ -59,7 +61,9 @@ def blueprint(geometry, views=VIEWS):
         ("velocities", rrb.TimeSeriesView(origin="plots/velocities", name="angular velocities [rad/s]")),
         ("energy", rrb.TimeSeriesView(origin="plots/energy", name="energy [J]")),
         ("force", rrb.TimeSeriesView(origin="plots/force", name="inputs: F [N], a_g [m/s2]")),
-        ("floors", rrb.TimeSeriesView(origin="plots/floors", name="floor displacements [m]"))) if name in views
+        ("floors", rrb.TimeSeriesView(origin="plots/floors", name="floor displacements [m]")),
+        ("contact", rrb.TimeSeriesView(origin="plots/contact", name="impacts' peak contact force [N]")))
+        if (name in views or (name == "contact" and "events" in views and geometry.get("contact")))
         and (name != "floors" or geometry.get("storeys"))]
     right = [view for name, view in (
         ("pendulum", rrb.Spatial3DView(origin="pendulum", name="pendulums and stops (front view)", eye_controls=eye)),
@@ -134,6 +138,8 @@ def log_block(rec, info, states, impacts, floors=None):
         if "events" in views:
             rec.send_columns("events", indexes=times, columns=rr.TextLog.columns(
                 text=[impact_text(row) for row in impacts.tolist()], level=["INFO"] * len(impacts)))
+            if info["geometry"].get("contact"):
+                rec.send_columns(CONTACT_FORCE, indexes=times, columns=rr.Scalars.columns(scalars=impacts["force_peak"]))
 
 
 def _log_frames(rec, times, g, states):

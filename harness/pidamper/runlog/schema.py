@@ -15,8 +15,11 @@ STATE_FIELDS = ("time", "F", "a_g", "theta", "theta_dot", "alpha", "alpha_dot", 
                 "energy", "energy_dissipated", "energy_viscous", "work_in")
 STATE_DTYPE = np.dtype([(n, np.int64 if n in ("contact", "impacts") else np.float64) for n in STATE_FIELDS])
 
-IMPACT_FIELDS = ("t", "side", "v_rel_before", "v_rel_after", "energy_lost", "theta", "index")
-IMPACT_DTYPE = np.dtype([(n, np.int64 if n in ("side", "index") else np.float64) for n in IMPACT_FIELDS])
+IMPACT_FIELDS = ("t", "side", "v_rel_before", "v_rel_after", "energy_lost", "theta", "e", "force_peak",
+                 "pressure_peak", "duration", "plastic", "index")
+IMPACT_DTYPE = np.dtype([(n, np.int64 if n in ("side", "plastic", "index") else np.float64) for n in IMPACT_FIELDS])
+#: the impact fields the materials add (issue 25): zero in runs logged before them
+CONTACT_FIELDS = ("e", "force_peak", "pressure_peak", "duration", "plastic")
 
 
 def floors_dtype(storeys):
@@ -83,12 +86,15 @@ def geometry(start_values):
     [rad/s] and the fidelity level (from coupled on the particle hangs from the primary's bob)."""
     from pidamper_physics import Params
 
-    integers = ("storeys", "damper_floor", "fidelity", "contact_form")  # the run info holds floats
+    integers = ("storeys", "damper_floor", "fidelity", "contact_form", "restitution")  # the run info holds floats
     p = Params.from_variables({k: int(v) if k in integers else v for k, v in start_values.items()})
+    contact = p.materials is not None  # the impacts carry their forces
     if p.storeys:  # a building: drawn as the pendulums of its theta and alpha
-        return {"L2": p.L2, "L1": p.L1, "clearance": p.d, "w2": p.w2, "fidelity": 2, "storeys": p.storeys}
+        return {"L2": p.L2, "L1": p.L1, "clearance": p.d, "w2": p.w2, "fidelity": 2, "storeys": p.storeys,
+                "contact": contact}
     clearance = p.L2 * p.d_angle if p.contact_form == 1 else p.d  # the angle form's clearance as a distance
-    return {"L2": p.L2, "L1": p.L2 / p.FR ** 2, "clearance": clearance, "w2": p.w2, "fidelity": p.fidelity}
+    return {"L2": p.L2, "L1": p.L2 / p.FR ** 2, "clearance": clearance, "w2": p.w2, "fidelity": p.fidelity,
+            "contact": contact}
 
 
 def frames(geometry, states):

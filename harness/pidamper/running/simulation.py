@@ -105,10 +105,16 @@ def yield_columns(storeys):
         "energy_hysteretic", "collapsed")
 
 
+#: what the materials add (a run with a contact radius R > 0 records them)
+CONTACT_OUTPUTS = ("impact_force_peak", "contact_pressure_peak", "impacts_plastic")
+
+
 def building_outputs(parameters):
-    """The building's outputs a run records beside OUTPUTS (none with storeys = 0)."""
+    """The building's outputs a run records beside OUTPUTS (none with storeys = 0), and the
+    materials' (CONTACT_OUTPUTS) when the parameters give a contact radius R > 0."""
     n = storeys_of(parameters)
-    return floor_columns(n) + peak_columns(n) + yield_columns(n) if n else ()
+    contact = CONTACT_OUTPUTS if float(parameters.get("R", 0.0)) > 0.0 else ()
+    return (floor_columns(n) + peak_columns(n) + yield_columns(n) if n else ()) + contact
 
 
 def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu=None, start_time=0.0,

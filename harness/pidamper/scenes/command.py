@@ -143,6 +143,9 @@ def run_command(args):
               f"absolute velocity {peaks['v_abs'].max():.6g} m/s")
         if d["energy_hysteretic"][-1] > 0.0:
             print(f"the storeys yielded: hysteretic energy {d['energy_hysteretic'][-1]:.6g} J")
+    if "impact_force_peak" in d.dtype.names:  # the materials given: the impacts' forces (exact per impact)
+        print(f"largest impact force {d['impact_force_peak'].max():.6g} N, contact pressure "
+              f"{d['contact_pressure_peak'].max() / 1e6:.6g} MPa; plastic impacts {int(d['impacts_plastic'][-1])}")
     print(f"impacts {int(d['impacts'][-1])}; {swing}; "
           f"energy {d['energy'][-1]:.6g} J; dissipated {d['energy_dissipated'][-1]:.6g} J; "
           f"work in {d['work_in'][-1]:.6g} J; CPU {result.cpu_time:.3f} s")

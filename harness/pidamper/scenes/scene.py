@@ -25,6 +25,7 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from pidamper_physics.impact import MATERIAL_NAMES
 from pidamper_physics.params import LEVELS, MAX_STOREYS
 
 from .. import forcing as forcing_mod
@@ -41,7 +42,7 @@ else:  # pragma: no cover
 PARAMETERS = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi",
               "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0", "angle_limit", "zeta_s", "zeta_p",
               "storeys", "damper_floor", "floor_m", "storey_k", "storey_h", "storey_Fy", "storey_b", "p_delta",
-              "collapse_drift")
+              "collapse_drift") + MATERIAL_NAMES
 #: a building's per-storey parameters: a number (every storey) or a list (storey 1 first), and the
 #: FMU variables they fill
 PER_STOREY = {"floor_m": "floor[{}].m", "storey_k": "storey[{}].k", "storey_h": "storey[{}].h",
@@ -181,7 +182,7 @@ def parse(data, source="scene", folder=Path("."), name="scene"):
                 _number(source, f"parameters.{key}[{k}]", item)
             continue
         _number(source, f"parameters.{key}", value)
-        if key in ("storeys", "damper_floor", "contact_form", "p_delta") and not isinstance(value, int):
+        if key in ("storeys", "damper_floor", "contact_form", "p_delta", "restitution") and not isinstance(value, int):
             raise SceneError(source, f"parameters.{key}", value, "an integer")
     forcing = _table(data, "forcing", source) or {"kind": "none"}
     kind = forcing.get("kind")
