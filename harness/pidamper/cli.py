@@ -10,6 +10,7 @@ The commands live in their rooms; this module only dispatches.  The commands wit
 """
 import argparse
 import importlib
+import os
 import sys
 
 from .running.simulation import FmuError
@@ -21,7 +22,8 @@ OWN_PARSER = {
     "study": ("pidamper.studies.study:main", "parametric study over a grid (pidamper study --help)"),
     "paper": ("pidamper.studies.paper:main", "regenerate the paper's figures for both readings (pidamper paper --help)"),
     "cosim": ("pidamper.cosim.command:cli_main",
-              "the damper unit FMU on a ShearBuilding<N> FMU, co-simulated (pidamper cosim --help)"),
+              "the damper unit FMU on a ShearBuilding<N> FMU, or with --opensees MODEL.py on a node of your "
+              "OpenSees model, co-simulated (pidamper cosim --help, pidamper cosim --opensees x --help)"),
     "assess": ("pidamper.assessment.assess:cli_main",
                "performance-based assessment: suite, stripes, fragility, risk (pidamper assess --help)"),
 }
@@ -72,6 +74,13 @@ def parser():
 
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] == "cosim" and any(a == "--opensees" or a.startswith("--opensees=") for a in argv):
+        code = importlib.import_module("pidamper.opensees.command").main(argv[1:])
+        # OpenSeesPy tears its library down at interpreter exit, and that teardown has crashed a
+        # finished process (running/isolated.py): the logs are closed, so leave without it
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
     if argv and argv[0] in OWN_PARSER:  # their own parsers take the rest
         return _own(argv[0], argv[1:])
     args = parser().parse_args(argv)

@@ -84,11 +84,13 @@ def _floors(ops, masses):
         ops.mass(k, float(m))
 
 
-def shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta=False, g=9.81):
+def shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta=False, g=9.81, carried=None):
     """Build the yielding shear building in a fresh OpenSees domain (see the module doc); returns
-    the `ops` module."""
+    the `ops` module.  carried: masses [kg] per floor whose weight the storeys carry beyond the
+    floors' own (a damper's particle, modelled elsewhere), for P-Delta."""
     ops = load()
     n = len(masses)
+    weights = [m + (carried[k] if carried else 0.0) for k, m in enumerate(masses)]
     _floors(ops, masses)
     for k in range(1, n + 1):
         fy, kk, b = float(yield_forces[k - 1]), float(stiffnesses[k - 1]), float(ratios[k - 1])
@@ -98,7 +100,7 @@ def shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_d
             ops.uniaxialMaterial("Elastic", k, kk)
         ops.element("zeroLength", k, k - 1, k, "-mat", k, "-dir", 1)
         if p_delta:
-            gravity = g * sum(masses[k - 1:])
+            gravity = g * sum(weights[k - 1:])
             ops.uniaxialMaterial("Elastic", 100 + k, -gravity / float(heights[k - 1]))
             ops.element("zeroLength", 100 + k, k - 1, k, "-mat", 100 + k, "-dir", 1)
     ops.eigen("-fullGenLapack", n)

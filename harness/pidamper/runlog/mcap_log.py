@@ -192,33 +192,37 @@ def impact_text(row):
             f"e = {e:.4g}, lost {lost:.6g} J{contact}")
 
 
-def read_run(path):
-    """(info, states, impacts, notes) of an MCAP run; a file cut short by a crash is read up to
-    its last complete chunk.  notes: list of (time, level, text)."""
-    info, channels = None, {}
-    states, impacts, notes = [], [], []
+def read_messages(path, metadata_name, topics):
+    """(the JSON `info` of the metadata record `metadata_name` or None, {topic: [messages as
+    dicts]} of `topics`) of an MCAP, read up to its last complete chunk (a file cut short by a
+    crash); a file whose metadata could not be read raises ValueError."""
+    info, channels, out = None, {}, {topic: [] for topic in topics}
     with open(path, "rb") as handle:
         try:
             for record in StreamReader(handle).records:
-                if isinstance(record, Metadata) and record.name == METADATA_NAME:
+                if isinstance(record, Metadata) and record.name == metadata_name:
                     info = json.loads(record.metadata["info"])
                 elif isinstance(record, Channel):
                     channels[record.id] = record.topic
                 elif isinstance(record, Message):
                     topic = channels.get(record.channel_id)
-                    if topic == "/damper/state":
-                        states.append(json.loads(record.data))
-                    elif topic == "/damper/impacts":
-                        impacts.append(json.loads(record.data))
-                    elif topic == "/run/notes":
-                        note = json.loads(record.data)
-                        notes.append((note["time"], note["level"], note["text"]))
+                    if topic in out:
+                        out[topic].append(json.loads(record.data))
         except Exception as err:  # a truncated file: keep what was complete
             if info is None:
                 raise ValueError(f"{path}: no pidamper run metadata could be read ({err})") from err
+    return info, out
+
+
+def read_run(path):
+    """(info, states, impacts, notes) of an MCAP run; a file cut short by a crash is read up to
+    its last complete chunk.  notes: list of (time, level, text)."""
+    info, topics = read_messages(path, METADATA_NAME, ("/damper/state", "/damper/impacts", "/run/notes"))
     if info is None:
         raise ValueError(f"{path}: not a pidamper run (no '{METADATA_NAME}' metadata record)")
-    return info, _to_array(states, STATE_DTYPE), _to_array(impacts, IMPACT_DTYPE), notes
+    notes = [(note["time"], note["level"], note["text"]) for note in topics["/run/notes"]]
+    return (info, _to_array(topics["/damper/state"], STATE_DTYPE), _to_array(topics["/damper/impacts"], IMPACT_DTYPE),
+            notes)
 
 
 def read_floors(path):
