@@ -6,6 +6,32 @@ import sys
 import pytest
 
 
+#: the session's exit status, for pytest_unconfigure
+_EXIT = {}
+
+
+def pytest_sessionfinish(session, exitstatus):
+    _EXIT["status"] = int(exitstatus)
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_unconfigure(config):
+    """Leave the test process without the interpreter's teardown, once every result is reported.
+
+    About one full run in two (CI once, fresh clones here twice in four, 2026-11-26) segfaulted
+    after its summary, in native code during interpreter teardown ("Fatal Python error:
+    Segmentation fault ... <no Python frame>" under PYTHONFAULTHANDLER): the session loads FMU
+    binaries (pythonfmu's, ours, the compiled C one), libcosim, Rerun's and Foxglove's native
+    libraries, and one of them does not survive the teardown in some orders.  OpenSeesPy, the
+    first suspect, now runs only in child processes and the crash remained.  No subset reproduced
+    it, so the session ends by os._exit with its own status; PIDAMPER_TEST_TEARDOWN=1 keeps the
+    normal teardown (to chase the crash)."""
+    if "status" in _EXIT and os.environ.get("PIDAMPER_TEST_TEARDOWN") != "1":
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(_EXIT["status"])
+
+
 #: the building FMUs the session builds beside the pendulum system's and the unit
 SESSION_STOREYS = ("1", "2", "3", "10")
 
