@@ -435,7 +435,7 @@ def test_suite_generator():
         gm.suite({**spec, "generator": "kanai-tajimi"})
     with pytest.raises(ValueError, match=r"missing key\(s\) \['count'\]"):
         gm.suite({k: v for k, v in spec.items() if k != "count"})
-    with pytest.raises(ValueError, match="exactly one of 'folder'"):
+    with pytest.raises(ValueError, match="exactly one of 'set'"):
         gm.suite({"folder": "x", "generator": "kanai-tajimi"})
 
 

