@@ -102,3 +102,50 @@ k = 2.0
         factors = {t["factor"] for t in tasks if t["level"] == level}
         assert factors == {level / float(np.median(ims))}
     assert tasks[0]["event"] == "Northridge" and tasks[0]["magnitude"] == 6.7
+
+
+def test_sa_period_is_the_bare_elastic_buildings_with_p_delta(tmp_path):
+    """T1 of a yielding building with P-Delta: the elastic K - K_G of the bare building (floors'
+    weight only), the same for every configuration; against numpy's eigenvalues."""
+    from pidamper.assessment import assess
+
+    text = tmp_path / "y.toml"
+    text.write_text("""
+[study]
+name = "y"
+[building]
+storeys = 3
+floor_m = 1.0e5
+storey_k = 8.0e7
+storey_height = 3.0
+p_delta = 1
+storey_Fy = 3.0e5
+[configurations.bare]
+mu = 0.0
+d = 100.0
+[configurations.damper]
+mu = 0.05
+FR = 1.0
+d = 0.02
+[intensity]
+measure = "Sa"
+levels = [0.5, 1.0]
+[damage_states]
+DS1 = 0.01
+[hazard]
+k0 = 1e-3
+k = 2.0
+[suite]
+generator = "kanai-tajimi"
+count = 2
+duration = 2.0
+dt = 0.01
+pga = 1.0
+omega_g = 15.6
+zeta_g = 0.6
+""")
+    study = assess.load(text)
+    k = [8e7 - 9.81 * 1e5 * n / 3.0 for n in (3, 2, 1)]  # each storey less the weight above it / h
+    K = np.array([[k[0] + k[1], -k[1], 0.0], [-k[1], k[1] + k[2], -k[2]], [0.0, -k[2], k[2]]])
+    w = np.sqrt(np.linalg.eigvalsh(K / 1e5).min())
+    assert study.period == pytest.approx(2 * np.pi / w, rel=1e-10)

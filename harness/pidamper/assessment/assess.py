@@ -108,8 +108,9 @@ class Study:
 
     @property
     def period(self):
-        """T1 [s]: the bare building's first natural period (the Sa period of every configuration)."""
-        return 2.0 * math.pi / Params.from_variables(start_values(self.building)).w2
+        """T1 [s]: the first natural period of the bare elastic building, with P-Delta when the
+        building has it (no particle: its weight left out), the Sa period of every configuration."""
+        return 2.0 * math.pi / Params.from_variables({**start_values(self.building), "mu": 0.0}).w2
 
     @property
     def unit(self):
