@@ -1,0 +1,84 @@
+"""Incremental dynamic analysis to collapse: the hunt-and-fill tracing of one record
+(Vamvatsikos & Cornell 2002, section 5.2).
+
+`hunt_and_fill(run, ...)` asks `run(im)` -> (collapsed, demand) at the intensities it chooses:
+
+1. hunt: from `first`, steps that grow by `increment` each run (first, first + step, + 2 step +
+   increment, ...) until a run collapses (the last non-collapsing intensity and the first
+   collapsing one then bracket the capacity);
+2. bracket: bisect the bracket until it is narrower than `tolerance` (relative to its lower end);
+3. fill: with runs left, halve the widest gap between the non-collapsing intensities traced, so
+   the IDA curve below collapse is drawn evenly.
+
+At most `max_runs` runs.  The collapse capacity is the bracket's lower end (the largest intensity
+that did not collapse) with the bracket's upper end; a record that never collapsed within the
+runs has no capacity (reported as such, never invented).
+"""
+from dataclasses import dataclass, field
+
+
+@dataclass
+class Trace:
+    """One record's IDA: runs as (im, collapsed, demand) in the order run; the collapse bracket
+    (lo, hi) when a run collapsed, else (largest im run, None)."""
+
+    runs: list = field(default_factory=list)
+    lo: float = 0.0
+    hi: float = None
+
+    @property
+    def collapsed(self):
+        return self.hi is not None
+
+    @property
+    def capacity(self):
+        """The collapse intensity: the bracket's midpoint, or None (no run collapsed)."""
+        return None if self.hi is None else 0.5 * (self.lo + self.hi)
+
+    def curve(self):
+        """(im, demand) of the runs that did not collapse, by intensity: the IDA curve."""
+        return sorted((im, d) for im, c, d in self.runs if not c)
+
+
+def hunt_and_fill(run, first, step, increment=None, tolerance=0.05, max_runs=10):
+    """Trace one record (see the module doc); run(im) -> (collapsed, demand)."""
+    if not (first > 0 and step > 0 and 0 < tolerance < 1 and max_runs >= 2):
+        raise ValueError(f"first = {first!r}, step = {step!r}, tolerance = {tolerance!r}, max_runs = {max_runs!r} "
+                         "are not allowed: first and step > 0, tolerance in (0, 1), max_runs >= 2")
+    increment = step / 2.0 if increment is None else increment
+    trace = Trace()
+
+    def go(im):
+        collapsed, demand = run(im)
+        trace.runs.append((im, bool(collapsed), demand))
+        return collapsed
+
+    im = first
+    while len(trace.runs) < max_runs:  # hunt
+        if go(im):
+            trace.hi = im
+            break
+        trace.lo = im
+        step_now = step + increment * (len(trace.runs) - 1)
+        im = im + step_now
+    if trace.hi is None:
+        return trace
+    while len(trace.runs) < max_runs and trace.hi - trace.lo > tolerance * max(trace.lo, 1e-300):  # bracket
+        mid = 0.5 * (trace.lo + trace.hi)
+        if go(mid):
+            trace.hi = mid
+        else:
+            trace.lo = mid
+    while len(trace.runs) < max_runs:  # fill the widest gap below collapse
+        below = sorted([0.0] + [im for im, c, _ in trace.runs if not c])
+        gaps = [(b - a, a, b) for a, b in zip(below, below[1:])]
+        if not gaps:
+            break
+        width, a, b = max(gaps)
+        if width <= tolerance * max(b, 1e-300):
+            break
+        im = 0.5 * (a + b)
+        if go(im):  # a collapse below the bracket (a non-monotone record): the first collapse counts
+            trace.hi = im
+            trace.lo = max([x for x, c, _ in trace.runs if not c and x < im], default=0.0)
+    return trace
