@@ -46,3 +46,66 @@ def test_a_record_that_never_collapses_has_no_capacity():
 def test_bad_arguments_are_named():
     with pytest.raises(ValueError, match="first = 0.0, step = 0.1"):
         hunt_and_fill(lambda im: (True, 0.0), first=0.0, step=0.1)
+
+
+def test_a_yielding_buildings_ida_brackets_its_collapse(tmp_path, fmu_dir):
+    """Wired to DampedShearBuilding1 (one storey, no post-yield stiffness, P-Delta: it collapses):
+    the trace's bracket is confirmed by independent runs just below (standing) and at its top
+    (collapsed); below collapse the drift ratio grows with the intensity; every run at most 6."""
+    import math
+
+    from pidamper import run
+    from pidamper.assessment import assess
+    from pidamper.assessment.ida import trace_record
+    from pidamper.forcing import Forcing
+
+    study_file = tmp_path / "ida.toml"
+    study_file.write_text("""
+[study]
+name = "ida"
+[building]
+storeys = 1
+floor_m = 1.0e5
+storey_k = 8.0e7
+storey_height = 3.0
+p_delta = 1
+storey_Fy = 2.0e5
+storey_b = 0.0
+collapse_drift = 0.05
+zeta_s = 0.02
+fidelity = "damped"
+[configurations.bare]
+mu = 0.0
+d = 100.0
+[intensity]
+measure = "PGA"
+levels = [0.1, 0.2]
+[damage_states]
+DS1 = 0.01
+[hazard]
+k0 = 1e-3
+k = 2.0
+[suite]
+generator = "kanai-tajimi"
+count = 2
+duration = 6.0
+dt = 0.01
+pga = 1.0
+omega_g = 15.6
+zeta_g = 0.6
+""")
+    study = assess.load(study_file)
+    record = study.records[0]
+    trace = trace_record(study, record, "bare", first=0.1, step=0.1, increment=0.1, tolerance=0.1, max_runs=6)
+    assert trace.collapsed and len(trace.runs) <= 6
+    values = assess.start_values({**study.building, **study.configurations["bare"]})
+    times = record.dt * np.arange(record.accel.size)
+    own = study.intensity(record)
+
+    def collapses(im):
+        signal = Forcing("record", {}, table=(times, im / own * record.accel), target="a_g")
+        return "collapsed" in run(values, signal, stop_time=round(times[-1], 6), output_interval=record.dt).meta
+
+    assert collapses(trace.hi) and not collapses(trace.lo)
+    curve = trace.curve()
+    assert all(b[1] >= a[1] for a, b in zip(curve, curve[1:])) and math.isfinite(curve[-1][1])
