@@ -109,3 +109,32 @@ zeta_g = 0.6
     assert collapses(trace.hi) and not collapses(trace.lo)
     curve = trace.curve()
     assert all(b[1] >= a[1] for a, b in zip(curve, curve[1:])) and math.isfinite(curve[-1][1])
+
+
+def test_collapse_fragility_from_capacities_is_scipys_lognormal_mle():
+    """Uncensored: scipy.stats.lognorm.fit (floc = 0) on the same capacities; censored (records
+    that never collapsed): an independent maximisation of the censored likelihood (scipy's
+    minimize on the (median, beta) form), and the censored median lies above the uncensored one."""
+    from scipy import optimize, stats
+
+    from pidamper.assessment.fragility import FragilityError, fit_capacities
+
+    rng = np.random.default_rng(3)
+    capacities = np.exp(rng.normal(np.log(1.2), 0.4, 30))
+    fit = fit_capacities(capacities)
+    s, _, scale = stats.lognorm.fit(capacities, floc=0.0)
+    assert fit.theta == pytest.approx(scale, rel=1e-6) and fit.beta == pytest.approx(s, rel=1e-6)
+    censored = [2.5, 2.5, 2.5]
+    both = fit_capacities(capacities, censored)
+
+    def nll(p):
+        theta, beta = p
+        return -(stats.lognorm.logpdf(capacities, beta, scale=theta).sum()
+                 + stats.lognorm.logsf(censored, beta, scale=theta).sum())
+
+    ref = optimize.minimize(nll, [1.0, 0.5], method="Powell", bounds=[(1e-3, 10.0), (1e-3, 5.0)],
+                            options={"xtol": 1e-10, "ftol": 1e-13})
+    assert both.theta == pytest.approx(ref.x[0], rel=1e-5) and both.beta == pytest.approx(ref.x[1], rel=1e-5)
+    assert both.theta > fit.theta and both.censored == 3 and both.n == 33
+    with pytest.raises(FragilityError, match="two distinct ones or more"):
+        fit_capacities([1.0])

@@ -479,3 +479,52 @@ def plot_fragility(ax, fit: Fit, band: Band | None = None, label: str | None = N
     ax.set_ylim(-0.02, 1.02)
     ax.set_ylabel("P(DS | IM)")
     return line
+
+
+@dataclass
+class CapacityFit:
+    """The collapse fragility fitted to the records' collapse intensities (IDA): a lognormal of
+    median theta and dispersion beta by maximum likelihood, the records that never collapsed
+    (censored: their capacity lies above the largest intensity run) counted through the
+    survival function.  n: records, censored: how many of them did not collapse."""
+    theta: float
+    beta: float
+    n: int
+    censored: int
+
+    def probability(self, x):
+        x = np.asarray(x, dtype=float)
+        with np.errstate(divide="ignore"):
+            p = ndtr(np.log(x / self.theta) / self.beta)
+        return float(p) if p.ndim == 0 else p
+
+
+def fit_capacities(capacities, censored_at=()):
+    """CapacityFit of the collapse intensities `capacities` (> 0) and the records that did not
+    collapse up to the intensities `censored_at` (> 0).  Without censoring the MLE is closed:
+    ln theta the mean of ln c, beta their standard deviation (ddof 0); with it, the censored
+    likelihood sum ln phi((ln c - m)/b)/b + sum ln(1 - Phi((ln s - m)/b)) is maximised."""
+    c = np.asarray(capacities, dtype=float)
+    s = np.asarray(censored_at, dtype=float)
+    if c.ndim != 1 or s.ndim != 1 or not np.all(np.isfinite(c)) or np.any(c <= 0) or np.any(s <= 0) \
+            or not np.all(np.isfinite(s)):
+        raise FragilityError("input", f"capacities = {c.tolist()!r}, censored_at = {s.tolist()!r} are not allowed: "
+                                      "finite intensities > 0")
+    if len(c) < 2 or np.ptp(np.log(c)) == 0.0:
+        raise FragilityError("none" if len(c) == 0 else "single_level",
+                             f"{len(c)} collapse intensities {c.tolist()!r} are not allowed: two distinct ones or "
+                             "more are needed (the records that did not collapse only bound the fit)")
+    lc = np.log(c)
+    m, b = float(lc.mean()), float(lc.std())
+    if len(s):
+        ls = np.log(s)
+
+        def nll(p):
+            mu, lb = p
+            beta = math.exp(lb)
+            return -(np.sum(-0.5 * ((lc - mu) / beta) ** 2 - lb) + np.sum(log_ndtr(-(ls - mu) / beta)))
+
+        best = optimize.minimize(nll, [m, math.log(b)], method="Nelder-Mead",
+                                 options={"xatol": 1e-12, "fatol": 1e-14, "maxiter": 20000})
+        m, b = float(best.x[0]), math.exp(float(best.x[1]))
+    return CapacityFit(math.exp(m), b, len(c) + len(s), len(s))
