@@ -32,6 +32,7 @@ from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Re
 from pythonfmu.default_experiment import DefaultExperiment
 
 from pidamper_physics import Damper, ParameterError, Params, SmallAngleMonitor
+from pidamper_physics.impact import step_outputs
 from pidamper_physics.params import NONLINEAR, check_finite, check_restitution
 
 from .common import FmiEntry, Refusal, describe, guarded, long_contact
@@ -90,7 +91,6 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
             causality = Fmi2Causality.local if derived else Fmi2Causality.output
             self._register_computed(name, kind, causality, self._output_getter(k))
         self._record_values = list(_ZERO_RECORD)  # slot-major Real fields, then the sides and plastic flags
-        self._long_warned = False  # a contact not short against the primary's period was warned about
         self._held = None  # a collapsed building's outputs, held
         self._in_step = 0
         self._record_in_buffer = True  # the buffer may hold a non-zero record: write it at the next push
@@ -145,10 +145,8 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
     def _live_outputs(self, c):
         theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force = c.observables(self.F, self.a_g)
         n = self._in_step
-        tally = c.contacts
-        contacts = (0.0, 0.0, 0) if tally is None else (tally.force_peak, tally.pressure_peak, tally.plastic)
         out = (theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact,
-               *contacts, x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
+               *step_outputs(c.contacts), x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
         return out + self._building_outputs(c) if self.STOREYS else out
 
     def _building_outputs(self, c):
@@ -242,9 +240,9 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         if contacts is not None:
             contacts.clear()
         core.advance(max(current_time + step_size, t), force, ground)
-        if contacts is not None and contacts.long_contact is not None and not self._long_warned:
-            self._long_warned = True
-            self._warn(long_contact(*contacts.long_contact))
+        late = None if contacts is None else contacts.news()
+        if late is not None:
+            self._warn(long_contact(*late))
         if core.halted and self._held is None:  # collapsed in this step: its outputs hold from here
             self._held = self._live_outputs(core)
         monitor = self._monitor

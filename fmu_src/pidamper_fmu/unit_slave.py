@@ -12,6 +12,7 @@ import uuid
 from pythonfmu import Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
 
+from pidamper_physics.impact import step_outputs
 from pidamper_physics.unit import DEFAULTS, DamperUnit
 
 from .adapter import ComponentSlave
@@ -76,7 +77,6 @@ class PendulumImpactDamperUnit(ComponentSlave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.guid = uuid.uuid5(uuid.NAMESPACE_URL, f"pidamper/{MODEL}/" + SOURCE_HASH)
-        self._long_warned = False  # a contact not short against the particle's period was warned about
 
     def _build_core(self):
         values = self._values
@@ -86,15 +86,13 @@ class PendulumImpactDamperUnit(ComponentSlave):
 
     def _advance(self, core, t_end):
         core.advance(t_end, self._values["a_s"])
-        contacts = core.contacts
-        if contacts is not None and contacts.long_contact is not None and not self._long_warned:
-            self._long_warned = True
-            self._warn(long_contact(*contacts.long_contact).replace("primary's", "particle's"))
+        late = None if core.contacts is None else core.contacts.news()
+        if late is not None:
+            self._warn(long_contact(*late).replace("primary's", "particle's"))
 
     def _tune(self, core, name, value):
         core.set_restitution(value)
 
     def _computed(self, c):
-        tally = c.contacts
-        contacts = (0.0, 0.0, 0) if tally is None else (tally.force_peak, tally.pressure_peak, tally.plastic)
-        return (c.F_s, c.J_s, c.t_J, c.r, c.rd, c.impacts, c.contact, c.dissipated, *contacts, c.impacts_in_step)
+        return (c.F_s, c.J_s, c.t_J, c.r, c.rd, c.impacts, c.contact, c.dissipated, *step_outputs(c.contacts),
+                c.impacts_in_step)

@@ -210,7 +210,7 @@ class Tally:
     yielded the softer body; the largest force and pressure since clear(); `long_contact`, the first
     (t, duration, period) of a contact longer than SHORT_CONTACT of the primary's `period` [s]."""
 
-    __slots__ = ("materials", "period", "hit", "plastic", "force_peak", "pressure_peak", "long_contact")
+    __slots__ = ("materials", "period", "hit", "plastic", "force_peak", "pressure_peak", "long_contact", "_told")
     STATE_KEYS = ("impacts_plastic", "force_peak", "pressure_peak")
 
     def __init__(self, materials, period):
@@ -219,6 +219,14 @@ class Tally:
         self.plastic = 0
         self.force_peak = self.pressure_peak = 0.0
         self.long_contact = None
+        self._told = False
+
+    def news(self):
+        """The first long contact, once (for a warning), else None."""
+        if self.long_contact is None or self._told:
+            return None
+        self._told = True
+        return self.long_contact
 
     def impact(self, t, w, mass, e, by_law):
         """The restitution of an impact at time t [s], relative velocity w [m/s] and reduced mass
@@ -263,6 +271,12 @@ class Tally:
     def set_state(self, values):
         """Restore the values check_state gave."""
         self.plastic, self.force_peak, self.pressure_peak = values
+
+
+def step_outputs(tally):
+    """(largest force [N], largest pressure [Pa] since the step began, plastic impacts so far) of
+    a Tally, zeros without one (no materials): the contact outputs of every particle FMU."""
+    return (0.0, 0.0, 0) if tally is None else (tally.force_peak, tally.pressure_peak, tally.plastic)
 
 
 def tally(materials, period):

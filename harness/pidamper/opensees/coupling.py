@@ -73,7 +73,7 @@ class CosimResult:
     cpu: float
     M_s: list
     warnings: list
-    impulses: list  # (t_J, attachment index, J, momentum jump M_s dv of the node)
+    impulses: list  # (t_J, attachment index, J [N s], the attachment's velocity jump OpenSees shows [m/s])
     watched: np.ndarray = None  # (n + 1, len(watch), 2): x and a_abs of the watched degrees of freedom
 
 
@@ -349,7 +349,7 @@ class Coupling:
             if jump != 0.0:
                 ops.setNodeVel(node, dof, ops.nodeVel(node, dof) + float(jump), "-commit")
         self._set_accelerations(self._accelerations() - self.Minv @ (self.C @ dv))
-        impulses.append((t_J, i, J, self.M_app[i] * (ops.nodeVel(a.node, a.dof) - before)))
+        impulses.append((t_J, i, J, ops.nodeVel(a.node, a.dof) - before))
 
     def close(self):
         for u in self.units:

@@ -3,7 +3,7 @@ written block by block while it goes, so both read back up to a failure.
 
 MCAP topics: /opensees/unit[i] one message per communication point (time, the node's x, v, a_abs,
 the unit's outputs by their FMU names), /opensees/impulses one per impulse (t_J, unit, J, the node's
-momentum jump), /run/info (the run's description, also the MCAP metadata record), /log (notes and
+velocity jump the node shows), /run/info (the run's description, also the MCAP metadata record), /log (notes and
 impulses as log lines).  Rerun: the same series under plots/unit_<i>/..., impulses in an event log.
 """
 import json
@@ -46,7 +46,7 @@ class CosimLog:
                              for i in range(units)]
             self.impulse_channel = foxglove.Channel("/opensees/impulses", schema={
                 "title": "pidamper.OpenSeesImpulse", "type": "object",
-                "properties": {f: {"type": "number"} for f in ("t_J", "unit", "J", "momentum_jump")}},
+                "properties": {f: {"type": "number"} for f in ("t_J", "unit", "J", "velocity_jump")}},
                 context=context)
             self.log = LogChannel("/log", context=context)
             foxglove.Channel("/run/info", schema={"type": "object"}, context=context).log(json.dumps(info), log_time=0)
@@ -57,7 +57,7 @@ class CosimLog:
 
     def write(self, time, nodes, units, impulses):
         """A block: time (k,), per unit nodes (k, 3) and units (k, len(UNIT_OUTPUTS)), impulses
-        (t_J, unit index, J, momentum jump) that fell in it."""
+        (t_J, unit index, J, the node's velocity jump) that fell in it."""
         ns = to_ns(time).tolist()
         if self.writer is not None:
             for i in range(self.units):
@@ -66,7 +66,7 @@ class CosimLog:
                     self.channels[i].log(json.dumps(row), log_time=n_ns)
             for t_J, i, J, jump in impulses:
                 t_ns = int(to_ns(t_J))
-                self.impulse_channel.log(json.dumps({"t_J": t_J, "unit": i + 1, "J": J, "momentum_jump": jump}),
+                self.impulse_channel.log(json.dumps({"t_J": t_J, "unit": i + 1, "J": J, "velocity_jump": jump}),
                                          log_time=t_ns)
                 self.log.log(Log(timestamp=_stamp(t_ns), level=LogLevel.Info, name="pidamper",
                                  message=f"unit {i + 1}: impulse {J:.6g} N s at t = {t_J:.9f} s"), log_time=t_ns)
