@@ -51,12 +51,11 @@ import numpy as np
 
 from pidamper_physics import Params
 
-from . import fragility
+from . import demands, fragility
 from ..forcing import ground_motion, spectra
 from ..errors import FieldError
 from ..forcing import Forcing
 from ..machine import cpu_model
-from ..measures import building_peaks
 from ..scenes.scene import FIDELITY, fmu_values
 from ..studies.runner import Table, add_runner_arguments, run_table
 
@@ -72,9 +71,20 @@ STOREY_HEIGHT = 3.0
 #: default damage states, peak transient inter-storey drift ratio: FEMA 356 (2000), Table C1-3,
 #: concrete frames: Immediate Occupancy 1 %, Life Safety 2 %, Collapse Prevention 4 %
 DAMAGE_STATES = {"IO": 0.01, "LS": 0.02, "CP": 0.04}
-SECTIONS = ("study", "building", "configurations", "suite", "intensity", "damage_states", "hazard", "run")
+SECTIONS = ("study", "building", "configurations", "suite", "intensity", "damage_states", "hazard", "losses", "run")
+#: [losses] fields: the performance model and what replacing the building costs (FEMA P-58)
+LOSS_FIELDS = {"components": "a CSV of FEMA P-58 components (pelicun's format), beside the study file",
+               "floor_area": "the floor area of one storey [m2] (> 0)",
+               "replacement_cost": "the building's replacement cost [USD 2011] (> 0)",
+               "replacement_days": "the days to replace it [days] (> 0)",
+               "realizations": "loss realizations per record (an integer >= 1; default 50)",
+               "repair_days": "repair-time thresholds [days] for the annual frequencies (default [30, 180])"}
 DEMANDS = ("drift_ratio", "drift_storey", "floor_accel", "stroke", "impacts", "cpu_s")
 MEASURES = ("Sa", "PGA", "PGV")
+#: what a building run through the FMU adds (assessment.demands; nan for the core engine and the
+#: pendulum primary): collapse (0/1), end time [s], the damper's largest impact speed [m/s] and
+#: impacts past the FMU's records; then the per-storey and per-floor demands, demands.names()
+RUN_FIELDS = ("collapsed", "t_end", "v_impact_max", "impacts_unrecorded")
 
 
 class StudyError(FieldError):
@@ -101,6 +111,7 @@ class Study:
     description: str = ""
     folder: Path = Path(".")
     records: list = field(default_factory=list)
+    losses: dict = field(default_factory=dict)
 
     @property
     def storeys(self):
@@ -204,8 +215,18 @@ def parse(data, source="study", folder=Path("."), text=""):
         table = folder / hazard["table"]
         if not table.is_file():
             raise StudyError(source, "hazard.table", hazard["table"], f"an existing CSV (looked for {table})")
+        values = np.genfromtxt(table, delimiter=",", names=True)
+        if values.dtype.names is None or not {"im", "rate"} <= set(values.dtype.names) or values.size < 2 \
+                or np.any(np.diff(values["im"]) <= 0) or np.any(np.diff(values["rate"]) >= 0) \
+                or np.any(values["rate"] <= 0):
+            raise StudyError(source, "hazard.table", hazard["table"], "a CSV with columns im, rate: im increasing, "
+                             "rate positive and decreasing (a hazard curve)")
+    elif "points" in hazard:
+        hazard.update(_hazard_points(hazard, source))
     elif not (_positive(hazard.get("k0")) and _positive(hazard.get("k"))):
-        raise StudyError(source, "hazard", hazard, "k0 and k (> 0) of the power law k0 IM^-k, or table = CSV")
+        raise StudyError(source, "hazard", hazard, "k0 and k (> 0) of the power law k0 IM^-k, points = [[IM, rate], "
+                         "[IM, rate]] with their source, or table = CSV")
+    loss_spec = _losses(_table(data, "losses", source), source, folder)
     run = _table(data, "run", source)
     for key in run:
         if key not in ("step", "bootstrap", "seed"):
@@ -215,7 +236,7 @@ def parse(data, source="study", folder=Path("."), text=""):
                   suite=_table(data, "suite", source), measure=measure, levels=[float(v) for v in levels],
                   zeta=float(zeta), damage_states=states, hazard=hazard, step=run.get("step"),
                   bootstrap=int(run.get("bootstrap", 500)), seed=int(run.get("seed", 0)),
-                  description=head.get("description", ""), folder=folder)
+                  description=head.get("description", ""), folder=folder, losses=loss_spec)
     try:
         study.records = ground_motion.suite(study.suite, folder)
     except (ValueError, OSError) as err:
@@ -223,6 +244,52 @@ def parse(data, source="study", folder=Path("."), text=""):
     if len(study.records) < 2:
         raise StudyError(source, "suite", study.suite, "two records or more")
     return study
+
+
+def _hazard_points(hazard, source):
+    """k0, k of the power law through two cited (IM, annual rate) points."""
+    points = hazard["points"]
+    if not (isinstance(points, list) and len(points) == 2 and all(isinstance(p, list) and len(p) == 2
+                                                                   and all(_positive(v) for v in p) for p in points)
+            and points[0][0] != points[1][0]):
+        raise StudyError(source, "hazard.points", points, "two [IM, annual rate] pairs of positive numbers at "
+                         "different intensities")
+    (x1, r1), (x2, r2) = points
+    if (x2 - x1) * (r2 - r1) >= 0:
+        raise StudyError(source, "hazard.points", points, "a hazard curve that decreases: the higher intensity "
+                         "with the lower rate")
+    if not isinstance(hazard.get("source"), str) or not hazard["source"].strip():
+        raise StudyError(source, "hazard.source", hazard.get("source"), "the citation of the two points (text)")
+    k0, k = fragility.hazard_power_law_from_points(x1, r1, x2, r2)
+    return {"k0": k0, "k": k}
+
+
+def _losses(spec, source, folder):
+    """The [losses] section checked ({} without one): components read (losses.read_components)."""
+    if not spec:
+        return {}
+    for key in spec:
+        if key not in LOSS_FIELDS:
+            raise StudyError(source, f"losses.{key}", spec[key], f"the fields are {', '.join(LOSS_FIELDS)}")
+    out = {"realizations": 50, "repair_days": [30.0, 180.0], **spec}
+    for key in ("floor_area", "replacement_cost", "replacement_days"):
+        if not _positive(out.get(key)):
+            raise StudyError(source, f"losses.{key}", out.get(key), LOSS_FIELDS[key])
+    if not isinstance(out["realizations"], int) or out["realizations"] < 1:
+        raise StudyError(source, "losses.realizations", out["realizations"], LOSS_FIELDS["realizations"])
+    days = out["repair_days"]
+    if not isinstance(days, list) or not days or not all(_positive(d) for d in days):
+        raise StudyError(source, "losses.repair_days", days, LOSS_FIELDS["repair_days"])
+    path = folder / str(out.get("components", ""))
+    if "components" not in out or not path.is_file():
+        raise StudyError(source, "losses.components", out.get("components"), f"{LOSS_FIELDS['components']} "
+                         f"(looked for {path})")
+    from . import losses
+    try:
+        out["model"] = losses.read_components(path)
+    except (losses.ComponentError, losses.PelicunMissing) as err:
+        raise StudyError(source, "losses.components", out["components"], str(err)) from None
+    return out
 
 
 def _table(data, key, source):
@@ -262,12 +329,13 @@ def tasks(study):
             for name, params in study.configurations.items():
                 values = start_values({**study.building, **params})
                 ident = {"record": record.name, "level": level, "configuration": name, "values": values,
-                         "step": study.step, "samples": record_digest(record), "collective": collective}
+                         "step": study.step, "samples": record_digest(record), "collective": collective,
+                         "tail": demands.TAIL_PERIODS}
                 task = {"key": hashlib.sha1(json.dumps(ident, sort_keys=True).encode()).hexdigest()[:16],
                         "record": record.name, "record_index": index, "level": level, "im_record": im,
                         "factor": level / (median if collective else im), "configuration": name, "values": values,
                         "dt": record.dt, "accel": record.accel.tolist(), "heights": study.heights, "step": study.step,
-                        **meta}
+                        "period": study.period, **meta}
                 out.append(task)
     return out
 
@@ -286,14 +354,20 @@ def run_task(task, engine="fmu", path=None):
     heights = np.asarray(task["heights"])
     storeys = task["values"].get("storeys", 0)  # 0: the pendulum primary, its x the one "drift"
     cpu = time.process_time()
+    row = {k: v for k, v in task.items() if k not in ("accel", "values", "heights", "step", "dt", "period")}
+    if engine == "fmu" and storeys:  # the building FMU's exact running maxima, a tail for the residual drift
+        found = demands.run_demands(task["values"], accel, task["dt"], task["period"], task["step"], path,
+                                    task["record"])
+        ratio = np.array([found[f"PID-{k}"] for k in range(1, storeys + 1)])
+        row.update(found, floor_accel=max(found[f"PFA-{k}"] for k in range(1, storeys + 1)))
+        row.update(drift_ratio=float(ratio.max()), drift_storey=int(ratio.argmax()) + 1,
+                   cpu_s=time.process_time() - cpu)
+        return row
     if engine == "fmu":
         data = run(task["values"], signal, stop_time=n * h, output_interval=h, fmu=path).data
-        if storeys:  # the building FMU's exact running maxima
-            peaks = building_peaks(data, storeys)
-            ratio, accel = peaks["drift_ratio"], peaks["a_abs"].max()
-        else:  # the pendulum primary: sampled at the communication points
-            ratio = np.abs(data["x"]).max(keepdims=True) / heights
-            accel = np.abs(data["a"] + data["a_g"]).max()
+        # the pendulum primary: sampled at the communication points
+        ratio = np.abs(data["x"]).max(keepdims=True) / heights
+        accel = np.abs(data["a"] + data["a_g"]).max()
         stroke, impacts = float(np.abs(data["z"]).max()), int(data["impacts"][-1])
     else:
         accels, strokes, drifts = [], [], []
@@ -312,7 +386,6 @@ def run_task(task, engine="fmu", path=None):
                 ratio, accel = np.array(peaks.drift), max(peaks.acceleration)
             else:
                 ratio, accel = np.array([max(drifts)]) / heights, max(accels)
-    row = {k: v for k, v in task.items() if k not in ("accel", "values", "heights", "step", "dt")}
     row.update(drift_ratio=float(ratio.max()), drift_storey=int(ratio.argmax()) + 1,
                floor_accel=float(accel), stroke=stroke, impacts=impacts,
                cpu_s=time.process_time() - cpu)
@@ -325,7 +398,7 @@ def run_study(study, out, engine="fmu", workers=None, dask=False, scheduler=None
 
     todo_all = tasks(study)
     columns = (["key", "record", "record_index", "level", "im_record", "factor", "configuration"] + list(DEMANDS)
-               + list(RECORD_META))
+               + list(RUN_FIELDS) + demands.names(study.storeys) + list(RECORD_META))
     table = Table(Path(out) / "runs.csv", columns)
     path = str(find_fmu(fmu, storeys=study.storeys)) if engine == "fmu" else None
     run_table(run_task, todo_all, [t["key"] for t in todo_all], table, engine, path, workers, dask, scheduler,
@@ -340,6 +413,9 @@ def _typed(row):
         out[key] = int(float(out[key]))
     for key in ("level", "im_record", "factor", "drift_ratio", "floor_accel", "stroke", "cpu_s"):
         out[key] = float(out[key])
+    for key in [*RUN_FIELDS, *(k for k in out if k[:4] in ("PID-", "RID-", "PFA-", "PFV-"))]:
+        if key in out:
+            out[key] = float(out[key]) if out[key] not in ("", None) else math.nan  # nan: not measured
     for key, kind in (("year", int), ("magnitude", float), ("distance_jb_km", float)):
         value = out.get(key, "")
         out[key] = kind(float(value)) if value not in ("", None) else None  # None: not a recorded set's
@@ -394,6 +470,21 @@ def analyse(study, rows):
             except fragility.FragilityError as err:
                 fits[conf][state] = StateFit(exceed, failed=err.kind)
     return fits, risk(study, fits)
+
+
+def hazard_rate(study, slope=1.0):
+    """lambda(x) [1/yr] of the study's hazard; slope scales the power law's k about its upper
+    point (the sensitivity row: the rate at the higher of two cited points kept)."""
+    hazard = study.hazard
+    if "table" in hazard:
+        table = np.genfromtxt(study.folder / hazard["table"], delimiter=",", names=True)
+        lx, lr = np.log(table["im"]), np.log(table["rate"])
+        return lambda x: np.exp(np.interp(np.log(x), lx, lr, left=lr[0], right=-np.inf))
+    k0, k = hazard["k0"], hazard["k"]
+    if slope != 1.0:
+        x_ref = max(p[0] for p in hazard.get("points", [[1.0, 0]]))
+        k0, k = k0 * x_ref ** (k * slope - k), k * slope
+    return lambda x: k0 * np.asarray(x, dtype=float) ** (-k)
 
 
 def risk(study, fits):
@@ -476,7 +567,7 @@ NO_FIT = {"none": "no run reached it", "all": "every run reached it at every str
           "single_level": "all runs at one level", "decreasing": "exceedance does not rise with intensity"}
 
 
-def write_page(study, rows, fits, risks, out, command, wall, workers):
+def write_page(study, rows, fits, risks, out, command, wall, workers, extra=()):
     out = Path(out)
     plot_ida(study, rows, out / "ida.png")
     plot_fragility(study, fits, out / "fragility.png")
@@ -517,11 +608,125 @@ def write_page(study, rows, fits, risks, out, command, wall, workers):
     for state, values, ratios in risks:
         lines.append(f"| {state} | " + " | ".join(f"{values[c]:.3g}" for c in confs) + " | " +
                      " | ".join(f"**{ratios[c]:.3g}**" for c in confs[1:]) + " |")
+    lines += list(extra)
     lines += ["", "Demands per run: `runs.parquet` (and the journal `runs.csv`: record, level, configuration, "
               "peak drift ratio and its storey, peak floor absolute acceleration [m/s2], peak particle stroke "
               "[m], impacts, CPU [s]).", "", "## The study file", "", "```toml", study.text.strip(), "```", "",
               "## The command", "", "```sh", command, "```", ""]
     (out / "README.md").write_text("\n".join(lines))
+
+
+def assess_losses(study, rows, out):
+    """The [losses] part (loss_study): per configuration its StripeLosses, every realization in
+    OUT/losses.parquet, the annual figures with paired-bootstrap intervals, the EAL ratio under the
+    hazard's slope varied; the page's lines."""
+    import pandas as pd
+
+    from . import loss_study
+
+    if any(not np.isfinite(r.get("collapsed", math.nan)) for r in rows):
+        raise StudyError(study.source, "losses", "", "runs of a building through the FMU (engine fmu, storeys >= 1): "
+                         "the demands per storey and floor come from it")
+    frames, per_conf = [], {}
+    for conf in study.configurations:
+        sink = lambda level, frame, conf=conf: frames.append(frame.assign(configuration=conf, level=level))  # noqa
+        per_conf[conf] = loss_study.stripe_losses(study, rows, conf, study.losses["model"],
+                                                  study.losses["realizations"], study.seed, sink)
+    table = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    table.to_parquet(Path(out) / "losses.parquet")
+    values, ratios = loss_study.compare(study, per_conf, hazard_rate(study))
+    slopes = {}
+    if "table" not in study.hazard:
+        for slope in (0.75, 1.25):
+            rate = hazard_rate(study, slope)
+            eal = [loss_study.annual(study, per_conf[c], np.arange(len(study.records)), rate)[0] for c in per_conf]
+            slopes[slope] = [e / eal[0] for e in eal[1:]]
+    plot_repair_complete(study, per_conf, table, Path(out) / "repair-complete.png")
+    return loss_lines(study, per_conf, values, ratios, slopes)
+
+
+def _loss_levels(study):
+    """The two stripes of the repair-complete curves: those nearest the hazard's two cited points,
+    else the middle and the highest stripe."""
+    points = study.hazard.get("points")
+    targets = [p[0] for p in points] if points else [study.levels[len(study.levels) // 2], study.levels[-1]]
+    return sorted({int(np.argmin(np.abs(np.log(np.asarray(study.levels) / t)))) for t in targets})
+
+
+def plot_repair_complete(study, per_conf, table, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from . import loss_study
+
+    spec = study.losses
+    days = np.linspace(0.0, 1.5 * spec["replacement_days"], 400)
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for i, conf in enumerate(per_conf):
+        for j, style in zip(_loss_levels(study), ("-", "--")):
+            level = study.levels[j]
+            frames = table[(table["configuration"] == conf) & (table["level"] == level)] if len(table) else None
+            done = loss_study.repair_complete(per_conf[conf], frames, j, days, spec["replacement_days"])
+            ax.plot(days, done, style, color=f"C{i}", label=f"{conf}, {study.measure} = {level:g} {study.unit}")
+    ax.set_xlabel("days after the event (repairs of all floors in parallel)")
+    ax.set_ylabel("fraction of buildings repaired")
+    ax.set_ylim(0, 1.02)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="lower right", fontsize=8)
+    ax.set_title("Repair-complete curves (FEMA P-58 with pelicun; collapse: replaced)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def loss_lines(study, per_conf, values, ratios, slopes):
+    spec = study.losses
+    confs = list(per_conf)
+    workers = spec["floor_area"] * 10.7639 / 1000.0
+    lines = ["", "## Losses and repair time (FEMA P-58 with pelicun)", "",
+             f"Performance model `{spec['components']}` ({len(spec['model'])} component rows, FEMA P-58 2nd edition "
+             f"fragilities and repair consequences of the SimCenter Damage and Loss Model Library, USD of 2011); "
+             f"floor area {spec['floor_area']:g} m2 per storey ({workers:.2f} workers per floor: FEMA P-58's one per "
+             f"1000 sq ft); replacement {spec['replacement_cost']:.4g} USD and {spec['replacement_days']:g} days; "
+             f"{spec['realizations']} realizations per record and stripe; the analysed direction applied to both; "
+             "irreparable when the largest residual drift ratio exceeds its capacity (median 1 %, beta 0.3). "
+             "Collapse: " + "; ".join(f"{c}: {per_conf[c].collapse_source}" for c in confs) + ". "
+             "Storeys do not deteriorate (bilinear with hardening, P-Delta), so collapse is the drift limit of the "
+             "building FMU.", "",
+             "| " + study.measure + " [" + study.unit + "] | " + " | ".join(
+                 f"{c}: P(collapse) | {c}: mean loss [USD] | {c}: P(> {spec['repair_days'][0]:g} d)" for c in confs)
+             + " |", "|---:|" + "---:|" * (3 * len(confs))]
+    t0 = spec["repair_days"][0]
+    for j, level in enumerate(study.levels):
+        cells = []
+        for c in confs:
+            s = per_conf[c]
+            with np.errstate(invalid="ignore"):
+                standing = np.nanmean(s.cost[:, j]) if np.isfinite(s.cost[:, j]).any() else spec["replacement_cost"]
+                late = np.nanmean(s.exceed_days[t0][:, j]) if np.isfinite(s.exceed_days[t0][:, j]).any() else 1.0
+            p = s.p_collapse[j]
+            cells += [f"{p:.3f}", f"{p * spec['replacement_cost'] + (1 - p) * standing:.4g}",
+                      f"{p * (spec['replacement_days'] > t0) + (1 - p) * late:.3f}"]
+        lines.append(f"| {level:g} | " + " | ".join(cells) + " |")
+    names = ["expected annual loss [USD/yr]"] + [f"MAF of repair > {t:g} days [1/yr]" for t in spec["repair_days"]]
+    lines += ["", f"Over the hazard (90 % paired bootstrap over records, {study.bootstrap} resamples; intensities "
+              f"below {study.levels[0] ** 2 / np.sqrt(study.levels[0] * study.levels[1]):.3g} {study.unit} taken to "
+              "cause no loss):", "",
+              "| quantity | " + " | ".join(confs) + " | " + " | ".join(f"ratio {c} / {confs[0]}" for c in confs[1:])
+              + " | unfitted resamples |", "|---|" + "---:|" * (2 * len(confs))]
+    for i, name in enumerate(names):
+        cells = [values[c][i].text(4) for c in confs] + [f"**{ratios[c][i].text(3)}**" for c in confs[1:]]
+        unfitted = max([values[c][i].unfitted for c in confs] + [ratios[c][i].unfitted for c in confs[1:]])
+        lines.append(f"| {name} | " + " | ".join(cells) + f" | {unfitted} |")
+    if slopes:
+        lines += ["", "Sensitivity of the EAL ratio to the hazard's slope k (the rate at the higher cited point "
+                  "kept): " + "; ".join(f"k x {s:g}: " + ", ".join(f"{r:.3g}" for r in v) for s, v in slopes.items())
+                  + "."]
+    lines += ["", "![repair complete](repair-complete.png)", "",
+              "Every loss realization: `losses.parquet` (configuration, level, record, cost, days_parallel, "
+              "days_sequential, irreparable)."]
+    return lines
 
 
 def assess(study_path, out="assessment", engine="fmu", workers=None, dask=False, scheduler=None, fmu=None,
@@ -537,7 +742,8 @@ def assess(study_path, out="assessment", engine="fmu", workers=None, dask=False,
     write_parquet(rows, out / "runs.parquet")
     fits, risks = analyse(study, rows)
     command = command or "pidamper assess " + " ".join(shlex.quote(a) for a in [str(study_path), "--out", str(out)])
-    write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count())
+    extra = assess_losses(study, rows, out) if study.losses else []
+    write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra)
     return rows, fits, risks
 
 

@@ -19,8 +19,12 @@ class Table:
         self.done = {}
         if self.path.exists() and self.path.stat().st_size:
             with self.path.open(newline="") as handle:
-                for row in csv.DictReader(handle):
-                    self.done[row["key"]] = row
+                reader = csv.DictReader(handle)
+                rows = list(reader) if reader.fieldnames == list(columns) else None
+            if rows is None:  # written by another version: kept aside, not appended to
+                self.path.replace(self.path.with_suffix(".stale.csv"))
+            for row in rows or ():
+                self.done[row["key"]] = row
         self.path.parent.mkdir(parents=True, exist_ok=True)
         fresh = not self.done
         self.handle = self.path.open("a" if not fresh else "w", newline="")

@@ -1,0 +1,150 @@
+"""A study's losses and repair time, per stripe and over the hazard (FEMA P-58-1, 2018, chapter 7
+for the intensity-based and chapter 8 for the time-based assessment).
+
+Per configuration and stripe j (intensity x_j): the records that did not collapse go through
+pelicun (losses.repair) with their own demands; collapse comes from the collapse fragility fitted to
+the stripes' collapsed runs (Baker 2015's MLE, fragility.fit_records), or, when no fit is possible
+(no run collapsed, or too few), from the observed fraction: the page says which.  Then
+
+    E[L | x_j]      = P_C(x_j) C_rep + (1 - P_C(x_j)) mean_r E[L_r]         (r: records standing)
+    P(T > t | x_j)  = P_C(x_j) [T_rep > t] + (1 - P_C(x_j)) mean_r P(T_r > t)
+
+and over the hazard lambda(x) the stripes stand for the intervals between the geometric midpoints
+of neighbouring stripes (the lowest from x_1^2/m_1, the highest to infinity), so that
+
+    EAL = sum_j E[L | x_j] (lambda(lo_j) - lambda(hi_j)),   MAF(T > t) likewise;
+
+intensities below the lowest interval are taken to cause no loss (the page says so).  Every number
+per record is stored (OUT/losses.parquet) and the paired bootstrap over records resamples them."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import bootstrap, fragility, losses
+
+
+@dataclass
+class StripeLosses:
+    """One configuration: per stripe the collapse probability, and per record (rows) x stripe
+    (columns) the mean repair cost [USD], P(irreparable) and P(repair days > t) per threshold t (nan
+    where the record collapsed); collapsed (records x stripes, bool); how P_C was obtained."""
+    p_collapse: np.ndarray
+    collapsed: np.ndarray
+    cost: np.ndarray
+    irreparable: np.ndarray
+    exceed_days: dict
+    collapse_source: str
+
+
+def collapse_probability(levels, collapsed):
+    """(P_C per stripe, 'fit: theta, beta' or 'observed fraction (reason)')."""
+    try:
+        fit = fragility.fit_records(levels, collapsed)
+    except fragility.FragilityError as err:
+        return collapsed.mean(axis=0), f"observed fraction per stripe (no lognormal fit: {err.kind})"
+    return fit.probability(levels), f"lognormal fit: median {fit.theta:.4g}, beta {fit.beta:.3g}"
+
+
+def stripe_losses(study, rows, configuration, components, realizations, seed, sink=None):
+    """StripeLosses of one configuration (rows: the study's run rows); `sink(level, frame)` receives
+    each stripe's realizations (losses.repair's frame with record_index)."""
+    spec = study.losses
+    levels = np.asarray(study.levels)
+    n_rec, n_lev = len(study.records), len(levels)
+    mine = [r for r in rows if r["configuration"] == configuration]
+    collapsed = np.zeros((n_rec, n_lev), bool)
+    index = {v: j for j, v in enumerate(study.levels)}
+    for r in mine:
+        collapsed[r["record_index"], index[r["level"]]] = bool(r["collapsed"])
+    p_c, source = collapse_probability(levels, collapsed)
+    thresholds = spec["repair_days"]
+    cost, irreparable = np.full((n_rec, n_lev), np.nan), np.full((n_rec, n_lev), np.nan)
+    exceed = {t: np.full((n_rec, n_lev), np.nan) for t in thresholds}
+    names = [f"{name}-1" for name in _demand_names(study.storeys)]
+    for j, level in enumerate(study.levels):
+        standing = [r for r in mine if r["level"] == level and not r["collapsed"]]
+        if not standing:
+            continue
+        import pandas as pd
+        frame = pd.DataFrame([[r[n[:-2]] for n in names] for r in standing], columns=names,
+                             index=[r["record_index"] for r in standing])
+        found = losses.repair(frame, components, spec["replacement_cost"], spec["replacement_days"],
+                              spec["floor_area"], realizations, seed + j)
+        if sink is not None:
+            sink(level, found)
+        grouped = found.groupby("record", sort=False)
+        rec = np.array(list(grouped.groups))
+        cost[rec, j] = grouped["cost"].mean().to_numpy()
+        irreparable[rec, j] = grouped["irreparable"].mean().to_numpy()
+        for t in thresholds:
+            exceed[t][rec, j] = (found["days_parallel"] > t).groupby(found["record"], sort=False).mean().to_numpy()
+    return StripeLosses(p_c, collapsed, cost, irreparable, exceed, source)
+
+
+def _demand_names(storeys):
+    from .demands import names
+    return names(storeys)
+
+
+def hazard_weights(levels, rate):
+    """lambda(lo_j) - lambda(hi_j) of each stripe's interval (module doc); rate(x) -> 1/yr."""
+    x = np.asarray(levels, dtype=float)
+    mids = np.sqrt(x[1:] * x[:-1])
+    lo = np.concatenate([[x[0] ** 2 / mids[0]], mids])
+    hi_rate = np.concatenate([rate(mids), [0.0]])
+    return rate(lo) - hi_rate
+
+
+def annual(study, stripes, rows_drawn, rate):
+    """[EAL, MAF(T > t) per threshold] of one configuration from the records `rows_drawn` (the
+    bootstrap's draw; collapse refitted on it)."""
+    spec = study.losses
+    weights = hazard_weights(study.levels, rate)
+    p_c, _ = collapse_probability(np.asarray(study.levels), stripes.collapsed[rows_drawn])
+    cost = _mean_standing(stripes.cost[rows_drawn])
+    cost = np.where(np.isnan(cost), spec["replacement_cost"], cost)  # every drawn record collapsed there
+    out = [float(np.sum(weights * (p_c * spec["replacement_cost"] + (1 - p_c) * cost)))]
+    for t in spec["repair_days"]:
+        p = _mean_standing(stripes.exceed_days[t][rows_drawn])
+        p = np.where(np.isnan(p), 1.0, p)
+        out.append(float(np.sum(weights * (p_c * (spec["replacement_days"] > t) + (1 - p_c) * p))))
+    return out
+
+
+def _mean_standing(values):
+    """Per stripe the mean over the records standing (nan where none stood)."""
+    standing = np.isfinite(values)
+    count = standing.sum(axis=0)
+    total = np.where(standing, values, 0.0).sum(axis=0)
+    return np.where(count > 0, total / np.maximum(count, 1), np.nan)
+
+
+def compare(study, per_conf, rate, n=None, seed=None):
+    """Paired bootstrap of every configuration's [EAL, MAF(T > t)...] and of their ratios to the
+    first configuration: {configuration: [Interval...]}, {configuration: [ratio Interval...]}."""
+    confs = list(per_conf)
+    size = 1 + len(study.losses["repair_days"])
+
+    def statistic(rows_drawn):
+        values = [annual(study, per_conf[c], rows_drawn, rate) for c in confs]
+        ratios = [v / b if b > 0 else np.nan for c in values[1:] for v, b in zip(c, values[0])]
+        return [x for v in values for x in v] + ratios
+
+    found = bootstrap.paired(statistic, len(study.records), n=n or study.bootstrap, seed=study.seed if seed is None
+                             else seed)
+    values = {c: found[i * size:(i + 1) * size] for i, c in enumerate(confs)}
+    base = len(confs) * size
+    ratios = {c: found[base + i * size: base + (i + 1) * size] for i, c in enumerate(confs[1:])}
+    return values, ratios
+
+
+def repair_complete(stripes, frames, level_index, days, replacement_days):
+    """Fraction of buildings repaired against days after the event at one stripe: (1 - P_C) times
+    the standing records' realizations' empirical CDF of days_parallel, plus P_C once the
+    replacement is done."""
+    p_c = stripes.p_collapse[level_index]
+    done = np.zeros_like(np.asarray(days, dtype=float))
+    if frames is not None and len(frames):
+        sample = np.sort(frames["days_parallel"].to_numpy())
+        done = np.searchsorted(sample, days, side="right") / sample.size
+    return (1 - p_c) * done + p_c * (np.asarray(days) >= replacement_days)

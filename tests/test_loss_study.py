@@ -1,0 +1,130 @@
+"""A study's losses over the hazard (assessment.loss_study) against closed forms, and a small
+yielding study through `pidamper assess` with its [losses] section end to end; bad loss and hazard
+input refused by name."""
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pidamper.assessment import assess, loss_study
+
+STUDY = Path(__file__).parent.parent / "studies" / "three-storey.toml"
+
+
+class Spec:
+    def __init__(self, levels, records=40):
+        self.levels = list(levels)
+        self.records = [None] * records
+        self.losses = {"replacement_cost": 1.0e6, "replacement_days": 400.0, "repair_days": [30.0]}
+
+
+def stripes(levels, collapsed, cost, late):
+    return loss_study.StripeLosses(collapsed.mean(axis=0), collapsed, np.where(collapsed, np.nan, cost),
+                                   np.zeros_like(cost), {30.0: np.where(collapsed, np.nan, late)}, "test")
+
+
+def test_a_constant_loss_weighs_the_rate_at_the_lowest_edge():
+    """Every stripe's loss C without collapse: EAL = C lambda(lo_1), lo_1 = x_1^2 / sqrt(x_1 x_2)."""
+    levels = np.geomspace(0.2, 3.0, 8)
+    study = Spec(levels)
+    shape = (40, 8)
+    found = loss_study.annual(study, stripes(levels, np.zeros(shape, bool), np.full(shape, 5e4), np.full(shape, 0.25)),
+                              np.arange(40), lambda x: 1e-3 * np.asarray(x) ** -2.5)
+    lo = levels[0] ** 2 / math.sqrt(levels[0] * levels[1])
+    assert found == pytest.approx([5e4 * 1e-3 * lo ** -2.5, 0.25 * 1e-3 * lo ** -2.5], rel=1e-12)
+
+
+def test_collapse_losses_converge_to_the_power_law_closed_form():
+    """Losses from collapse only, capacities lognormal (median 1.2, beta 0.4) known exactly on dense
+    stripes: EAL -> C_rep k0 theta^-k exp(k^2 beta^2 / 2) (Cornell et al. 2002) within 1 %; the
+    repair-time frequency likewise (replacement takes 400 > 30 days)."""
+    from scipy.stats import norm
+    levels = np.geomspace(0.05, 30.0, 400)
+    n = 2000
+    capacity = np.exp(np.log(1.2) + 0.4 * norm.ppf((np.arange(n) + 0.5) / n))
+    collapsed = capacity[:, None] <= levels[None, :]
+    study = Spec(levels, n)
+    k0, k = 2e-3, 2.2
+    found = loss_study.annual(study, stripes(levels, collapsed, np.zeros(collapsed.shape), np.zeros(collapsed.shape)),
+                              np.arange(n), lambda x: k0 * np.asarray(x) ** -k)
+    exact = k0 * 1.2 ** -k * math.exp(0.5 * (k * 0.4) ** 2)
+    assert found[0] == pytest.approx(1.0e6 * exact, rel=0.01) and found[1] == pytest.approx(exact, rel=0.01)
+
+
+def write_yielding_study(tmp_path, extra=""):
+    text = STUDY.read_text()
+    text = text.replace('fidelity = "damped"', 'fidelity = "damped"\n"storey[1].Fy" = 1.1e6\n"storey[2].Fy" = 9.2e5\n'
+                        '"storey[3].Fy" = 5.5e5\np_delta = 1')
+    text = text.replace("count = 12", "count = 3").replace("duration = 20.0", "duration = 6.0")
+    text = text.replace("t1 = 2.0, t2 = 10.0", "t1 = 1.0, t2 = 3.0")
+    start = text.index("levels = [")
+    text = text[:start] + "levels = [0.5, 2.0, 6.0]" + text[text.index("\n", start):]
+    start = text.index("[hazard]")
+    text = text[:start] + ('[hazard]\npoints = [[1.0, 2.1e-3], [1.5, 4.04e-4]]\nsource = "test points"\n\n'
+                           '[losses]\ncomponents = "components.csv"\nfloor_area = 200.0\nreplacement_cost = 1.5e6\n'
+                           'replacement_days = 365.0\nrealizations = 20\n' + extra + '\n[run]\nbootstrap = 30\nseed = 0\n')
+    (tmp_path / "components.csv").write_text(
+        (Path(__file__).parent.parent / "studies" / "office-3-components.csv").read_text())
+    path = tmp_path / "study.toml"
+    path.write_text(text)
+    return path
+
+
+def test_a_yielding_study_gets_its_losses_end_to_end(tmp_path):
+    """3 records x 3 stripes x 2 configurations through the FMU and pelicun: at the top stripe the
+    building collapses (replacement counted), at the lowest it stands with small losses; the page
+    has the tables, the figure and the parquet of realizations (one per record, stripe standing and
+    realization)."""
+    pytest.importorskip("pelicun")
+    import pandas as pd
+
+    path = write_yielding_study(tmp_path)
+    study = assess.load(path)
+    assert study.hazard["k"] == pytest.approx(math.log(2.1e-3 / 4.04e-4) / math.log(1.5))
+    rows, _, _ = assess.assess(path, tmp_path / "out", workers=1, progress=False)
+    collapsed = {(r["configuration"], r["level"]): 0 for r in rows}
+    for r in rows:
+        collapsed[r["configuration"], r["level"]] += r["collapsed"]
+    table = pd.read_parquet(tmp_path / "out" / "losses.parquet")
+    standing = sum(1 for r in rows if not r["collapsed"])
+    assert len(table) == 20 * standing
+    page = (tmp_path / "out" / "README.md").read_text()
+    assert "## Losses and repair time" in page and (tmp_path / "out" / "repair-complete.png").is_file()
+    assert "expected annual loss" in page and "Sensitivity of the EAL ratio" in page
+    low = table[table["level"] == 0.5]
+    assert low["cost"].mean() < 0.2 * 1.5e6 and not low["irreparable"].all()
+    assert collapsed["bare", 6.0] >= 1
+
+
+@pytest.mark.parametrize("field, value, says", [
+    ("floor_area", "-1.0", "floor area"),
+    ("components", '"missing.csv"', "looked for"),
+    ("unknown", "1", "the fields are"),
+])
+def test_bad_loss_fields_are_named(tmp_path, field, value, says):
+    path = write_yielding_study(tmp_path)
+    text = path.read_text()
+    if field == "unknown":
+        text = text.replace("realizations = 20", "realizations = 20\nunknown = 1")
+    else:
+        text = "\n".join(f"{field} = {value}" if line.startswith(f"{field} =") else line for line in text.splitlines())
+    path.write_text(text)
+    with pytest.raises(assess.StudyError, match=says):
+        assess.load(path)
+
+
+def test_an_unknown_component_and_a_hazard_that_rises_are_refused(tmp_path):
+    pytest.importorskip("pelicun")
+    path = write_yielding_study(tmp_path)
+    (tmp_path / "components.csv").write_text("ID,Units,Location,Direction,Theta_0,Blocks\nB.99.99.999,ea,1,1,1,1\n")
+    with pytest.raises(assess.StudyError, match="B.99.99.999"):
+        assess.load(path)
+    path = write_yielding_study(tmp_path)
+    path.write_text(path.read_text().replace("[1.5, 4.04e-4]", "[1.5, 4.04e-2]"))
+    with pytest.raises(assess.StudyError, match="decreases"):
+        assess.load(path)
+    path.write_text(path.read_text().replace("points = [[1.0, 2.1e-3], [1.5, 4.04e-2]]", 'table = "h.csv"'))
+    (tmp_path / "h.csv").write_text("im,rate\n0.5,1e-3\n1.0,2e-3\n")
+    with pytest.raises(assess.StudyError, match="decreasing"):
+        assess.load(path)

@@ -1,0 +1,93 @@
+"""Losses through pelicun (assessment.losses): pelicun is called, not re-implemented, and one
+component worked by hand from the FEMA P-58 library's own numbers agrees with it; the records'
+realizations come back in order; irreparable residual drift replaces the building; a component the
+library does not know is refused by name."""
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import stats
+
+losses = pytest.importorskip("pidamper.assessment.losses")
+pytest.importorskip("pelicun")
+
+PARTITION = "C.10.11.001a"  # gypsum partition, metal studs, full height fixed below and above
+FLOOR_AREA = 200.0  # m2 -> 2.15 workers per floor
+
+
+def library_row(kind, key):
+    """A row of the library's CSV, read with the csv module (not through pelicun)."""
+    import dlml
+    folder = Path(dlml.__file__).parent / "data/seismic/building/component/FEMA P-58 2nd Edition"
+    with open(folder / f"{kind}.csv", newline="") as handle:
+        return next(row for row in csv.DictReader(handle) if row["ID"] == key)
+
+
+def expected_consequence(row, states, q):
+    """Per damage state: q * median(q) * E[eps]; the median interpolated on the quantity between the
+    library's two bounds (flat outside), eps of mean-one 'normal' (COV theta_1, truncated at 0) or
+    median-one 'lognormal' (beta theta_1)."""
+    out = {}
+    for k in states:
+        medians, bounds = (np.array(part.split(","), float) for part in row[f"DS{k}-Theta_0"].split("|"))
+        b = float(row[f"DS{k}-Theta_1"])
+        if row[f"DS{k}-Family"] == "lognormal":
+            mean = math.exp(0.5 * b * b)
+        else:
+            a = -1.0 / b
+            mean = 1.0 + b * stats.norm.pdf(a) / stats.norm.sf(a)
+        out[k] = q * float(np.interp(q, bounds, medians)) * mean
+    return out
+
+
+@pytest.fixture(scope="module")
+def partition(tmp_path_factory):
+    path = tmp_path_factory.mktemp("cmp") / "one.csv"
+    path.write_text(f"ID,Units,Location,Direction,Theta_0,Blocks\n# one component, storey 1\n"
+                    f"{PARTITION},ft,1,1,500,1\n")
+    return losses.read_components(path)
+
+
+def test_one_component_by_hand_agrees_with_pelicun(partition):
+    """500 ft of partition in storey 1 at a drift ratio of 1 %: P(DS) from the library's three
+    lognormal limit states (one capacity draw per component: P(DS >= k) = Phi(ln(d/theta_k)/beta_k)),
+    E[cost] and E[days] from its consequence functions at q = 5 (units of 100 LF)."""
+    fragility = library_row("fragility", PARTITION)
+    pid = 0.010
+    exceed = [stats.norm.cdf(math.log(pid / float(fragility[f"LS{k}-Theta_0"])) / float(fragility[f"LS{k}-Theta_1"]))
+              for k in (1, 2, 3)] + [0.0]
+    p_state = {k: exceed[k - 1] - exceed[k] for k in (1, 2, 3)}
+    cost = expected_consequence(library_row("consequence_repair", f"{PARTITION}-Cost"), (1, 2, 3), 5.0)
+    work = expected_consequence(library_row("consequence_repair", f"{PARTITION}-Time"), (1, 2, 3), 5.0)
+    demands = pd.DataFrame({"PID-1-1": [pid], "RID-1-1": [0.0], "PFA-0-1": [0.0], "PFA-1-1": [0.0]})
+    found = losses.repair(demands, partition, 1.0e7, 300.0, FLOOR_AREA, realizations=20000, seed=7)
+    workers = FLOOR_AREA * losses.WORKERS_PER_M2
+    assert found["cost"].mean() == pytest.approx(sum(p_state[k] * cost[k] for k in p_state), rel=0.01)
+    assert found["days_parallel"].mean() == pytest.approx(sum(p_state[k] * work[k] for k in p_state) / workers,
+                                                          rel=0.01)
+    assert (found["cost"] == 0).mean() == pytest.approx(1.0 - exceed[0], abs=0.005)
+    assert not found["irreparable"].any() and np.array_equal(found["days_parallel"], found["days_sequential"])
+
+
+def test_residual_drift_makes_the_building_irreparable_and_replaced(partition):
+    """RID 1.2 %: irreparable with probability Phi(ln(1.2)/0.3) (FEMA P-58's median 1 %, beta 0.3);
+    those realizations cost the replacement and take its time, exactly; the rows keep their order."""
+    demands = pd.DataFrame({"PID-1-1": [0.010, 0.010], "RID-1-1": [0.0, 0.012], "PFA-0-1": [0.0, 0.0],
+                            "PFA-1-1": [0.0, 0.0]}, index=["calm", "leaning"])
+    found = losses.repair(demands, partition, 1.0e7, 300.0, FLOOR_AREA, realizations=10000, seed=3)
+    assert list(found["record"][:10000].unique()) == ["calm"] and list(found["record"][10000:].unique()) == ["leaning"]
+    leaning = found[found["record"] == "leaning"]
+    assert leaning["irreparable"].mean() == pytest.approx(stats.norm.cdf(math.log(1.2) / 0.3), abs=0.01)
+    replaced = leaning[leaning["irreparable"]]
+    assert np.allclose(replaced["cost"], 1.0e7) and np.allclose(replaced["days_parallel"], 300.0)
+    assert not found[found["record"] == "calm"]["irreparable"].any()
+
+
+def test_a_component_unknown_to_the_library_is_refused_by_name(tmp_path):
+    path = tmp_path / "bad.csv"
+    path.write_text("ID,Units,Location,Direction,Theta_0,Blocks\nZ.99.99.999,ea,1,1,1,1\n")
+    with pytest.raises(losses.ComponentError, match="'Z.99.99.999'.*not in the FEMA P-58 library"):
+        losses.read_components(path)
