@@ -49,14 +49,17 @@ def test_bad_arguments_are_named():
 
 
 def test_a_yielding_buildings_ida_brackets_its_collapse(tmp_path, fmu_dir):
-    """Wired to DampedShearBuilding1 (one storey, no post-yield stiffness, P-Delta: it collapses):
+    """assess.run_ida_task on DampedShearBuilding1 (one storey, no post-yield stiffness, P-Delta: it
+    collapses):
     the trace's bracket is confirmed by independent runs just below (standing) and at its top
     (collapsed); below collapse the drift ratio grows with the intensity; every run at most 6."""
+    import json
     import math
 
     from pidamper import run
     from pidamper.assessment import assess
-    from pidamper.assessment.ida import trace_record
+    from pidamper.assessment import demands
+    from pidamper.assessment.ida import Trace
     from pidamper.forcing import Forcing
 
     study_file = tmp_path / "ida.toml"
@@ -95,15 +98,17 @@ omega_g = 15.6
 zeta_g = 0.6
 """)
     study = assess.load(study_file)
+    study.ida = {"first": 0.1, "step": 0.1, "increment": 0.1, "tolerance": 0.1, "max_runs": 6}
     record = study.records[0]
-    trace = trace_record(study, record, "bare", first=0.1, step=0.1, increment=0.1, tolerance=0.1, max_runs=6)
-    assert trace.collapsed and len(trace.runs) <= 6
+    row = assess.run_ida_task(assess.ida_tasks(study)[0])
+    trace = Trace([tuple(r) for r in json.loads(row["runs"])], row["lo"], row["hi"])
+    assert trace.collapsed and len(trace.runs) <= 6 and row["capacity"] == trace.capacity
     values = assess.start_values({**study.building, **study.configurations["bare"]})
-    times = record.dt * np.arange(record.accel.size)
     own = study.intensity(record)
 
-    def collapses(im):
-        signal = Forcing("record", {}, table=(times, im / own * record.accel), target="a_g")
+    def collapses(im):  # the record and its free-vibration tail, as the IDA runs it
+        times, ground = demands.with_tail(im / own * record.accel, record.dt, study.period)
+        signal = Forcing("record", {}, table=(times, ground), target="a_g")
         return "collapsed" in run(values, signal, stop_time=round(times[-1], 6), output_interval=record.dt).meta
 
     assert collapses(trace.hi) and not collapses(trace.lo)

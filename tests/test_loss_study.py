@@ -17,6 +17,7 @@ class Spec:
         self.levels = list(levels)
         self.records = [None] * records
         self.losses = {"replacement_cost": 1.0e6, "replacement_days": 400.0, "repair_days": [30.0]}
+        self.beta_m = 0.0
 
 
 def stripes(levels, collapsed, cost, late):
@@ -52,6 +53,21 @@ def test_collapse_losses_converge_to_the_power_law_closed_form():
     assert found[0] == pytest.approx(1.0e6 * exact, rel=0.01) and found[1] == pytest.approx(exact, rel=0.01)
 
 
+def test_a_modelling_dispersion_widens_the_collapse_fragility():
+    """beta_m (FEMA P-695 Table 7-2) adds in quadrature to the fitted dispersion, median kept."""
+    from scipy.stats import norm
+
+    from pidamper.assessment import fragility
+    levels = np.geomspace(0.3, 4.0, 8)
+    rng = np.random.default_rng(2)
+    capacity = np.exp(np.log(1.5) + 0.3 * rng.standard_normal(44))
+    collapsed = capacity[:, None] <= levels[None, :]
+    fit = fragility.fit_records(levels, collapsed)
+    p, text = loss_study.collapse_probability(levels, collapsed, beta_m=0.35)
+    assert np.allclose(p, norm.cdf(np.log(levels / fit.theta) / math.hypot(fit.beta, 0.35)), rtol=0, atol=1e-15)
+    assert "widened by beta_m = 0.35" in text
+
+
 def write_yielding_study(tmp_path, extra=""):
     text = STUDY.read_text()
     text = text.replace('fidelity = "damped"', 'fidelity = "damped"\n"storey[1].Fy" = 1.1e6\n"storey[2].Fy" = 9.2e5\n'
@@ -62,7 +78,7 @@ def write_yielding_study(tmp_path, extra=""):
     text = text[:start] + "levels = [0.5, 2.0, 6.0]" + text[text.index("\n", start):]
     start = text.index("[hazard]")
     text = text[:start] + ('[hazard]\npoints = [[1.0, 2.1e-3], [1.5, 4.04e-4]]\nsource = "test points"\n\n'
-                           '[losses]\ncomponents = "components.csv"\nfloor_area = 200.0\nreplacement_cost = 1.5e6\n'
+                           '[p695]\nsdc = "dmax"\n\n[losses]\ncomponents = "components.csv"\nfloor_area = 200.0\nreplacement_cost = 1.5e6\n'
                            'replacement_days = 365.0\nrealizations = 20\n' + extra + '\n[run]\nbootstrap = 30\nseed = 0\n')
     (tmp_path / "components.csv").write_text(
         (Path(__file__).parent.parent / "studies" / "office-3-components.csv").read_text())
@@ -72,14 +88,15 @@ def write_yielding_study(tmp_path, extra=""):
 
 
 def test_a_yielding_study_gets_its_losses_end_to_end(tmp_path):
-    """3 records x 3 stripes x 2 configurations through the FMU and pelicun: at the top stripe the
-    building collapses (replacement counted), at the lowest it stands with small losses; the page
-    has the tables, the figure and the parquet of realizations (one per record, stripe standing and
-    realization)."""
+    """3 records x 3 stripes x 2 configurations through the FMU and pelicun, and each record's IDA
+    (hunt and fill, 4 runs at most): at the top stripe the building collapses (replacement counted),
+    at the lowest it stands with small losses; the page has the P-695 and loss tables, the figures
+    and the parquet of realizations (one per record, stripe standing and realization)."""
     pytest.importorskip("pelicun")
     import pandas as pd
 
     path = write_yielding_study(tmp_path)
+    path.write_text(path.read_text().replace("[run]", "[ida]\nfirst = 0.5\nstep = 2.0\nmax_runs = 4\n\n[run]"))
     study = assess.load(path)
     assert study.hazard["k"] == pytest.approx(math.log(2.1e-3 / 4.04e-4) / math.log(1.5))
     rows, _, _ = assess.assess(path, tmp_path / "out", workers=1, progress=False)
@@ -91,6 +108,10 @@ def test_a_yielding_study_gets_its_losses_end_to_end(tmp_path):
     assert len(table) == 20 * standing
     page = (tmp_path / "out" / "README.md").read_text()
     assert "## Losses and repair time" in page and (tmp_path / "out" / "repair-complete.png").is_file()
+    assert "## Collapse margin (FEMA P-695)" in page and (tmp_path / "out" / "pushover.png").is_file()
+    traces = pd.read_csv(tmp_path / "out" / "ida.csv")
+    assert len(traces) == 3 * 2 and (traces["lo"] > 0).all() and "records (IDA)" in page
+    assert "IDA capacities' lognormal fit" in page or "no IDA fit" in page
     assert "expected annual loss" in page and "Sensitivity of the EAL ratio" in page
     low = table[table["level"] == 0.5]
     assert low["cost"].mean() < 0.2 * 1.5e6 and not low["irreparable"].all()

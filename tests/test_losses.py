@@ -70,6 +70,8 @@ def test_one_component_by_hand_agrees_with_pelicun(partition):
                                                           rel=0.01)
     assert (found["cost"] == 0).mean() == pytest.approx(1.0 - exceed[0], abs=0.005)
     assert not found["irreparable"].any() and np.array_equal(found["days_parallel"], found["days_sequential"])
+    assert np.array_equal(found["cost_drift"], found["cost"])  # a partition: drift-sensitive, non-structural
+    assert not found["cost_structural"].any() and not found["cost_acceleration"].any()
 
 
 def test_residual_drift_makes_the_building_irreparable_and_replaced(partition):

@@ -20,10 +20,20 @@ allowed):
     [intensity]      measure = "Sa" (Sa(T1, 5 %), T1 the bare building's first period), "PGA" or
                      "PGV"; levels = [...] in g (Sa, PGA) or m/s (PGV); zeta = 0.05
     [damage_states]  NAME = peak inter-storey drift ratio limit (default DAMAGE_STATES)
-    [hazard]         k0, k (power law k0 IM^-k, IM in the levels' units) or table = "hazard.csv"
-                     (columns im, rate)
+    [hazard]         k0, k (power law k0 IM^-k, IM in the levels' units), points = [[IM, rate], [IM,
+                     rate]] with their source (the power law through them), or table = "hazard.csv"
+                     (columns im, rate; rates decreasing)
+    [losses]         components (a FEMA P-58 component CSV), floor_area [m2], replacement_cost [USD
+                     2011], replacement_days, realizations (default 50), repair_days ([30, 180]):
+                     repair cost and time with pelicun (losses, loss_study)
+    [p695]           sdc ("dmax"), ratings (["B", "B", "C"]), record_set ("farfield"): FEMA P-695's
+                     collapse margin with the pushover's mu_T (p695)
+    [ida]            first, step [levels' unit], increment, tolerance (0.05), max_runs (10): each
+                     record's IDA to collapse by hunt and fill; its capacities then give the collapse
+                     fragility of [p695] and [losses]
     [run]            step [s] (communication step; default the records' dt), bootstrap (default 500),
-                     seed (default 0)
+                     seed (default 0), beta_m (modelling dispersion added to the collapse fragility;
+                     default 0)
 
 Each run is one record scaled to one level, in one configuration, through the FMU with fmpy
 (`--engine core`: the physics core directly). Demands per run: peak inter-storey drift ratio
@@ -71,7 +81,18 @@ STOREY_HEIGHT = 3.0
 #: default damage states, peak transient inter-storey drift ratio: FEMA 356 (2000), Table C1-3,
 #: concrete frames: Immediate Occupancy 1 %, Life Safety 2 %, Collapse Prevention 4 %
 DAMAGE_STATES = {"IO": 0.01, "LS": 0.02, "CP": 0.04}
-SECTIONS = ("study", "building", "configurations", "suite", "intensity", "damage_states", "hazard", "losses", "run")
+SECTIONS = ("study", "building", "configurations", "suite", "intensity", "damage_states", "hazard", "losses", "p695",
+            "ida", "run")
+#: [ida]: incremental dynamic analysis to collapse by hunt and fill (ida.hunt_and_fill), per record and
+#: configuration, each record scaled by its own intensity; its capacities then give the collapse fragility
+IDA_FIELDS = {"first": "the first intensity (levels' unit, > 0)", "step": "the hunt's first step (> 0)",
+              "increment": "the hunt's step growth (>= 0; default step / 2)",
+              "tolerance": "the bracket's relative width (0..1; default 0.05)",
+              "max_runs": "runs per record (an integer >= 2; default 10)"}
+#: [p695]: FEMA P-695's collapse margin (p695.margin): seismic design category, the ratings of design
+#: requirements, test data and model (Table 7-2), the record set of the spectral shape factor
+P695_FIELDS = {"sdc": ("dmax", "dmin", "cmax", "cmin", "bmax", "bmin"), "ratings": "three of A, B, C, D",
+               "record_set": ("farfield", "nearfield")}
 #: [losses] fields: the performance model and what replacing the building costs (FEMA P-58)
 LOSS_FIELDS = {"components": "a CSV of FEMA P-58 components (pelicun's format), beside the study file",
                "floor_area": "the floor area of one storey [m2] (> 0)",
@@ -112,6 +133,9 @@ class Study:
     folder: Path = Path(".")
     records: list = field(default_factory=list)
     losses: dict = field(default_factory=dict)
+    beta_m: float = 0.0
+    p695: dict = field(default_factory=dict)
+    ida: dict = field(default_factory=dict)
 
     @property
     def storeys(self):
@@ -229,14 +253,21 @@ def parse(data, source="study", folder=Path("."), text=""):
     loss_spec = _losses(_table(data, "losses", source), source, folder)
     run = _table(data, "run", source)
     for key in run:
-        if key not in ("step", "bootstrap", "seed"):
-            raise StudyError(source, f"run.{key}", run[key], "the run fields are step, bootstrap, seed")
+        if key not in ("step", "bootstrap", "seed", "beta_m"):
+            raise StudyError(source, f"run.{key}", run[key], "the run fields are step, bootstrap, seed, beta_m")
+    beta_m = run.get("beta_m", 0.0)
+    if not (isinstance(beta_m, (int, float)) and not isinstance(beta_m, bool) and 0 <= beta_m < 2):
+        raise StudyError(source, "run.beta_m", beta_m, "a modelling dispersion in [0, 2) (FEMA P-695 Table 7-2: "
+                         "0.10 superior to 0.50 poor)")
+    p695_spec = _p695(_table(data, "p695", source), source)
+    ida_spec = _ida(_table(data, "ida", source), source)
     study = Study(name=head.get("name", Path(source).stem), source=source, text=text, building=building,
                   heights=[float(h) for h in heights], configurations=configurations,
                   suite=_table(data, "suite", source), measure=measure, levels=[float(v) for v in levels],
                   zeta=float(zeta), damage_states=states, hazard=hazard, step=run.get("step"),
                   bootstrap=int(run.get("bootstrap", 500)), seed=int(run.get("seed", 0)),
-                  description=head.get("description", ""), folder=folder, losses=loss_spec)
+                  description=head.get("description", ""), folder=folder, losses=loss_spec, beta_m=float(beta_m),
+                  p695=p695_spec, ida=ida_spec)
     try:
         study.records = ground_motion.suite(study.suite, folder)
     except (ValueError, OSError) as err:
@@ -262,6 +293,43 @@ def _hazard_points(hazard, source):
         raise StudyError(source, "hazard.source", hazard.get("source"), "the citation of the two points (text)")
     k0, k = fragility.hazard_power_law_from_points(x1, r1, x2, r2)
     return {"k0": k0, "k": k}
+
+
+def _ida(spec, source):
+    """The [ida] section checked ({} without one)."""
+    if not spec:
+        return {}
+    for key in spec:
+        if key not in IDA_FIELDS:
+            raise StudyError(source, f"ida.{key}", spec[key], f"the fields are {', '.join(IDA_FIELDS)}")
+    out = {"tolerance": 0.05, "max_runs": 10, **spec}
+    for key in ("first", "step"):
+        if not _positive(out.get(key)):
+            raise StudyError(source, f"ida.{key}", out.get(key), IDA_FIELDS[key])
+    if "increment" in out and not (isinstance(out["increment"], (int, float)) and out["increment"] >= 0):
+        raise StudyError(source, "ida.increment", out["increment"], IDA_FIELDS["increment"])
+    if not (_positive(out["tolerance"]) and out["tolerance"] < 1):
+        raise StudyError(source, "ida.tolerance", out["tolerance"], IDA_FIELDS["tolerance"])
+    if not isinstance(out["max_runs"], int) or out["max_runs"] < 2:
+        raise StudyError(source, "ida.max_runs", out["max_runs"], IDA_FIELDS["max_runs"])
+    return out
+
+
+def _p695(spec, source):
+    """The [p695] section checked ({} without one)."""
+    if not spec:
+        return {}
+    for key in spec:
+        if key not in P695_FIELDS:
+            raise StudyError(source, f"p695.{key}", spec[key], f"the fields are {', '.join(P695_FIELDS)}")
+    out = {"sdc": "dmax", "ratings": ["B", "B", "C"], "record_set": "farfield", **spec}
+    for key in ("sdc", "record_set"):
+        if out[key] not in P695_FIELDS[key]:
+            raise StudyError(source, f"p695.{key}", out[key], f"one of {', '.join(P695_FIELDS[key])}")
+    if not (isinstance(out["ratings"], list) and len(out["ratings"]) == 3 and all(r in "ABCD" and len(r) == 1
+                                                                                    for r in out["ratings"])):
+        raise StudyError(source, "p695.ratings", out["ratings"], P695_FIELDS["ratings"])
+    return out
 
 
 def _losses(spec, source, folder):
@@ -390,6 +458,108 @@ def run_task(task, engine="fmu", path=None):
                floor_accel=float(accel), stroke=stroke, impacts=impacts,
                cpu_s=time.process_time() - cpu)
     return row
+
+
+IDA_COLUMNS = ("key", "record", "record_index", "configuration", "capacity", "lo", "hi", "runs", "cpu_s")
+
+
+def ida_tasks(study):
+    """One IDA per record x configuration (a dict: key, what to run and the record)."""
+    out = []
+    for index, record in enumerate(study.records):
+        im = study.intensity(record)
+        for name, params in study.configurations.items():
+            values = start_values({**study.building, **params})
+            ident = {"record": record.name, "configuration": name, "values": values, "step": study.step,
+                     "samples": record_digest(record), "ida": study.ida, "tail": demands.TAIL_PERIODS}
+            out.append({"key": hashlib.sha1(json.dumps(ident, sort_keys=True).encode()).hexdigest()[:16],
+                        "record": record.name, "record_index": index, "configuration": name, "values": values,
+                        "im_record": im, "dt": record.dt, "accel": record.accel.tolist(), "step": study.step,
+                        "period": study.period, "ida": study.ida})
+    return out
+
+
+def run_ida_task(task, engine="fmu", path=None):
+    """One record's IDA (ida.hunt_and_fill) through the building FMU: each run the record scaled to
+    the intensity by its own value, stopped at collapse; the demand its largest storey drift ratio."""
+    from .ida import hunt_and_fill
+
+    cpu = time.process_time()
+    accel = np.asarray(task["accel"])
+    storeys = task["values"]["storeys"]
+
+    def one(im):
+        found = demands.run_demands(task["values"], (im / task["im_record"]) * accel, task["dt"], task["period"],
+                                    task["step"], path, task["record"])
+        return bool(found["collapsed"]), max(found[f"PID-{k}"] for k in range(1, storeys + 1))
+
+    spec = task["ida"]
+    trace = hunt_and_fill(one, spec["first"], spec["step"], spec.get("increment"), spec["tolerance"], spec["max_runs"])
+    return {"key": task["key"], "record": task["record"], "record_index": task["record_index"],
+            "configuration": task["configuration"], "capacity": trace.capacity if trace.collapsed else math.nan,
+            "lo": trace.lo, "hi": trace.hi if trace.collapsed else math.nan, "runs": json.dumps(trace.runs),
+            "cpu_s": time.process_time() - cpu}
+
+
+def run_ida(study, out, engine="fmu", workers=None, dask=False, scheduler=None, fmu=None, progress=True):
+    """Every record's IDA not yet in OUT/ida.csv; the rows, in task order (numbers typed, runs a list)."""
+    from ..running.fmu import find_fmu
+
+    if engine != "fmu" or not study.storeys:
+        raise StudyError(study.source, "ida", study.ida, "a building (storeys >= 1) run through its FMU (engine fmu)")
+    todo = ida_tasks(study)
+    table = Table(Path(out) / "ida.csv", list(IDA_COLUMNS))
+    path = str(find_fmu(fmu, storeys=study.storeys))
+    run_table(run_ida_task, todo, [t["key"] for t in todo], table, engine, path, workers, dask, scheduler, progress,
+              "ida")
+    rows = []
+    for t in todo:
+        row = dict(table.done[t["key"]])
+        row["record_index"] = int(float(row["record_index"]))
+        for key in ("capacity", "lo", "hi", "cpu_s"):
+            row[key] = float(row[key]) if row[key] not in ("", None) else math.nan
+        row["runs"] = json.loads(row["runs"]) if isinstance(row["runs"], str) else row["runs"]
+        rows.append(row)
+    return rows
+
+
+def ida_collapse(study, traces):
+    """{configuration: loss_study.Collapse} from the IDA capacities (censored where none collapsed)."""
+    from .loss_study import Collapse
+
+    out = {}
+    for conf in study.configurations:
+        mine = sorted((r for r in traces if r["configuration"] == conf), key=lambda r: r["record_index"])
+        capacities = np.array([r["capacity"] for r in mine])
+        censored = np.array([r["lo"] if not np.isfinite(r["capacity"]) else np.nan for r in mine])
+        out[conf] = Collapse(study.levels, None, study.beta_m, capacities, censored)
+    return out
+
+
+def plot_ida_traces(study, traces, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    confs = list(study.configurations)
+    fig, axes = plt.subplots(1, len(confs), figsize=(5.2 * len(confs), 4.2), sharex=True, sharey=True)
+    axes = np.atleast_1d(axes)
+    for ax, conf in zip(axes, confs):
+        for r in (r for r in traces if r["configuration"] == conf):
+            standing = sorted((im, d) for im, c, d in r["runs"] if not c)
+            if standing:
+                ims, drifts = zip(*standing)
+                ax.plot(100 * np.array(drifts), ims, color="0.6", lw=0.8, marker=".", ms=3)
+            if np.isfinite(r["capacity"]):
+                ax.plot(100 * study.building.get("collapse_drift", 0.10), r["capacity"], "x", color="C3", ms=4)
+        ax.set_title(f"{conf}: IDA per record (x: collapse)")
+        ax.set_xlabel("peak inter-storey drift ratio [%]")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel(study.label)
+    fig.suptitle("Incremental dynamic analysis to collapse (hunt and fill, Vamvatsikos & Cornell 2002)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 def run_study(study, out, engine="fmu", workers=None, dask=False, scheduler=None, fmu=None, progress=True):
@@ -616,7 +786,7 @@ def write_page(study, rows, fits, risks, out, command, wall, workers, extra=()):
     (out / "README.md").write_text("\n".join(lines))
 
 
-def assess_losses(study, rows, out):
+def assess_losses(study, rows, out, collapse=None):
     """The [losses] part (loss_study): per configuration its StripeLosses, every realization in
     OUT/losses.parquet, the annual figures with paired-bootstrap intervals, the EAL ratio under the
     hazard's slope varied; the page's lines."""
@@ -631,7 +801,8 @@ def assess_losses(study, rows, out):
     for conf in study.configurations:
         sink = lambda level, frame, conf=conf: frames.append(frame.assign(configuration=conf, level=level))  # noqa
         per_conf[conf] = loss_study.stripe_losses(study, rows, conf, study.losses["model"],
-                                                  study.losses["realizations"], study.seed, sink)
+                                                  study.losses["realizations"], study.seed, sink,
+                                                  collapse[conf] if collapse else None)
     table = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
     table.to_parquet(Path(out) / "losses.parquet")
     values, ratios = loss_study.compare(study, per_conf, hazard_rate(study))
@@ -642,7 +813,87 @@ def assess_losses(study, rows, out):
             eal = [loss_study.annual(study, per_conf[c], np.arange(len(study.records)), rate)[0] for c in per_conf]
             slopes[slope] = [e / eal[0] for e in eal[1:]]
     plot_repair_complete(study, per_conf, table, Path(out) / "repair-complete.png")
-    return loss_lines(study, per_conf, values, ratios, slopes)
+    return loss_lines(study, rows, per_conf, values, ratios, slopes)
+
+
+def p695_lines(study, rows, out, collapse=None):
+    """FEMA P-695's collapse margin per configuration (p695): the median collapse intensity of the
+    stripes' collapse fragility, the bare building's pushover for mu_T; the paired-bootstrap ratio of
+    the medians; the page's lines and pushover.png."""
+    from pidamper_physics import Params
+
+    from . import bootstrap, p695
+
+    spec = study.p695
+    push = p695.pushover(Params.from_variables({**start_values(study.building), "mu": 0.0}))
+    plot_pushover(push, Path(out) / "pushover.png")
+    levels = np.asarray(study.levels)
+    confs = list(study.configurations)
+    collapsed = {c: demand_matrix(study, rows, c, "collapsed") >= 0.5 for c in confs}
+    lines = ["", "## Collapse margin (FEMA P-695)", "",
+             f"Pushover of the bare building with P-Delta (loads along the first mode of K - K_G): peak base shear "
+             f"{push.v_max / 1e3:.1f} kN ({push.v_max / push.weight:.3f} W), ultimate roof displacement "
+             f"{push.delta_u:.3f} m ({push.limit}; the storeys do not deteriorate, so a rising curve ends at the "
+             f"collapse drift), effective yield {push.delta_y_eff:.4f} m: mu_T = {push.mu_t:.2f}. SDC "
+             f"{spec['sdc']}, ratings {'/'.join(spec['ratings'])} (design requirements, test data, model), record set "
+             f"{spec['record_set']}; Sa at the model's T1 = {study.period:.3f} s (FEMA P-695 takes T = Cu Ta: the "
+             "margin's SMT and SSF are read at T1 here).", "",
+             "![pushover](pushover.png)", "",
+             "| configuration | collapses (of runs) | S_CT [g] | S_MT [g] | CMR | SSF | ACMR | beta_TOT | ACMR10 | ACMR20 | "
+             "ACMR >= ACMR20 |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+    fits = {}
+    median = _median_collapse(study, levels, collapsed, collapse)
+    for c in confs:
+        count = f"{int(collapsed[c].sum())} of {collapsed[c].size} stripe runs"
+        if collapse:
+            count = f"{int(np.isfinite(collapse[c].capacities).sum())} of {len(study.records)} records (IDA)"
+        try:
+            fits[c] = median(c, np.arange(len(study.records)))
+        except fragility.FragilityError as err:
+            lines.append(f"| {c} | {count} | no fit: {NO_FIT.get(err.kind, err.kind)} | | | | | | | | |")
+            continue
+        m = p695.margin(fits[c], study.period, push.mu_t, spec["sdc"], spec["ratings"], spec["record_set"])
+        lines.append(f"| {c} | {count} | {m.s_ct:.3g} | {m.s_mt:.3g} | {m.cmr:.3g} | {m.ssf:.3g} | {m.acmr:.3g} | "
+                     f"{m.beta_total:.3g} | {m.acmr10:.3g} | {m.acmr20:.3g} | {'yes' if m.passes else 'no'} |")
+    if len(fits) == len(confs) and len(confs) > 1:
+        def medians(rows_drawn):
+            found = [median(c, rows_drawn) for c in confs]
+            return [f / found[0] for f in found[1:]]
+        ratios = bootstrap.paired(medians, len(study.records), n=study.bootstrap, seed=study.seed)
+        lines += ["", "Ratio of the median collapse intensities (90 % paired bootstrap over records): " + "; ".join(
+            f"{c} / {confs[0]}: {r.text(3)} ({r.unfitted} of {r.resamples} resamples unfitted)"
+            for c, r in zip(confs[1:], ratios)) + "."]
+    return lines
+
+
+def _median_collapse(study, levels, collapsed, collapse):
+    """median(configuration, rows drawn) -> the median collapse intensity: of the IDA capacities
+    (fit_capacities, censored) when `collapse` has them, else of the stripes' collapsed runs."""
+    def median(conf, rows):
+        if collapse:
+            cap, cen = collapse[conf].capacities[rows], collapse[conf].censored_at[rows]
+            return fragility.fit_capacities(cap[np.isfinite(cap)], cen[~np.isfinite(cap)]).theta
+        return fragility.fit_records(levels, collapsed[conf][rows]).theta
+    return median
+
+
+def plot_pushover(push, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.0, 4.0))
+    ax.plot(push.roof, push.base_shear / push.weight, color="C0")
+    ax.axvline(push.delta_u, color="C3", ls="--", lw=0.8, label=f"delta_u ({push.limit})")
+    ax.axvline(push.delta_y_eff, color="0.4", ls=":", lw=0.8, label="delta_y,eff (FEMA P-695 Eq. 6-7)")
+    ax.set_xlabel("roof displacement [m]")
+    ax.set_ylabel("base shear / weight")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(f"Pushover with P-Delta (first-mode loads): mu_T = {push.mu_t:.2f}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 def _loss_levels(study):
@@ -680,7 +931,14 @@ def plot_repair_complete(study, per_conf, table, path):
     plt.close(fig)
 
 
-def loss_lines(study, per_conf, values, ratios, slopes):
+def _mean_text(values):
+    finite = values[np.isfinite(values)]
+    return f"{finite.mean():.3g}" if finite.size else "collapsed"
+
+
+def loss_lines(study, rows, per_conf, values, ratios, slopes):
+    from . import losses
+
     spec = study.losses
     confs = list(per_conf)
     workers = spec["floor_area"] * 10.7639 / 1000.0
@@ -708,6 +966,16 @@ def loss_lines(study, per_conf, values, ratios, slopes):
             p = s.p_collapse[j]
             cells += [f"{p:.3f}", f"{p * spec['replacement_cost'] + (1 - p) * standing:.4g}",
                       f"{p * (spec['replacement_days'] > t0) + (1 - p) * late:.3f}"]
+        lines.append(f"| {level:g} | " + " | ".join(cells) + " |")
+    lines += ["", "Where the repairs go (mean repair cost of the records standing, USD, by the components' demand: "
+              "structural = the moment connections, drift = other drift-sensitive components, acceleration = "
+              "floor-acceleration-sensitive ones), and the median peak floor acceleration over the records "
+              "(all floors' largest, m/s2): the damper lowers drifts and may raise accelerations.", "",
+              "| " + study.measure + " | " + " | ".join(f"{c}: {g}" for c in confs for g in losses.GROUPS) + " | "
+              + " | ".join(f"{c}: PFA" for c in confs) + " |", "|---:|" + "---:|" * (4 * len(confs))]
+    for j, level in enumerate(study.levels):
+        cells = [_mean_text(per_conf[c].groups[g][:, j]) for c in confs for g in losses.GROUPS]
+        cells += [f"{np.median(demand_matrix(study, rows, c, 'floor_accel')[:, j]):.3g}" for c in confs]
         lines.append(f"| {level:g} | " + " | ".join(cells) + " |")
     names = ["expected annual loss [USD/yr]"] + [f"MAF of repair > {t:g} days [1/yr]" for t in spec["repair_days"]]
     lines += ["", f"Over the hazard (90 % paired bootstrap over records, {study.bootstrap} resamples; intensities "
@@ -742,7 +1010,22 @@ def assess(study_path, out="assessment", engine="fmu", workers=None, dask=False,
     write_parquet(rows, out / "runs.parquet")
     fits, risks = analyse(study, rows)
     command = command or "pidamper assess " + " ".join(shlex.quote(a) for a in [str(study_path), "--out", str(out)])
-    extra = assess_losses(study, rows, out) if study.losses else []
+    extra, collapse = [], None
+    if study.ida:
+        t0 = time.perf_counter()
+        traces = run_ida(study, out, engine, workers, dask, scheduler, fmu, progress)
+        collapse = ida_collapse(study, traces)
+        plot_ida_traces(study, traces, out / "ida-collapse.png")
+        runs = sum(len(r["runs"]) for r in traces)
+        extra += ["", "## Incremental dynamic analysis to collapse", "",
+                  f"Hunt and fill per record and configuration (first {study.ida['first']:g}, step "
+                  f"{study.ida['step']:g} {study.unit}, tolerance {study.ida['tolerance']:g}, at most "
+                  f"{study.ida['max_runs']} runs): {runs} runs, {time.perf_counter() - t0:.0f} s wall; each record "
+                  "scaled by its own intensity; the collapse fragility below (P-695 and losses) is the lognormal fit "
+                  "of the records' collapse intensities (bracket midpoints), records that never collapsed censored "
+                  "(`ida.csv`).", "", "![IDA to collapse](ida-collapse.png)"]
+    extra += p695_lines(study, rows, out, collapse) if study.p695 else []
+    extra += assess_losses(study, rows, out, collapse) if study.losses else []
     write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra)
     return rows, fits, risks
 

@@ -82,36 +82,3 @@ def hunt_and_fill(run, first, step, increment=None, tolerance=0.05, max_runs=10)
             trace.hi = im
             trace.lo = max([x for x, c, _ in trace.runs if not c and x < im], default=0.0)
     return trace
-
-
-def trace_record(study, record, configuration, first, step, increment=None, tolerance=0.05, max_runs=10, fmu=None):
-    """The IDA of one record in one configuration of a study (assess.Study), through the building
-    FMU with fmpy: each run scales the record to the intensity `im` (the study's measure, the
-    record's own value scaled: IDA's per-record scaling), stops at the building's collapse (its
-    `collapsed` output; pidamper.run) and gives the largest storey drift ratio (the FMU's exact
-    running maxima).  Returns the Trace."""
-    import numpy as np
-
-    from ..forcing import Forcing
-    from ..measures import building_peaks
-    from ..running.simulation import run as simulate
-    from .assess import start_values
-
-    values = start_values({**study.building, **study.configurations[configuration]})
-    storeys = values.get("storeys", 0)
-    if not storeys:
-        raise ValueError(f"storeys = {storeys!r} is not allowed: an IDA to collapse needs a building (storeys >= 1)")
-    own = study.intensity(record)
-    times = record.dt * np.arange(record.accel.size)
-    h = study.step or record.dt
-    stop = int(round(times[-1] / h)) * h
-
-    def one(im):
-        factor = im / own
-        signal = Forcing("record", {"record": record.name, "factor": factor}, table=(times, factor * record.accel),
-                         target="a_g")
-        result = simulate(values, signal, stop_time=stop, output_interval=h, fmu=fmu)
-        collapsed = "collapsed" in result.meta
-        return collapsed, float(building_peaks(result.data, storeys)["drift_ratio"].max())
-
-    return hunt_and_fill(one, first, step, increment, tolerance, max_runs)

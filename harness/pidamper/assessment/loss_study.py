@@ -16,9 +16,11 @@ of neighbouring stripes (the lowest from x_1^2/m_1, the highest to infinity), so
 
 intensities below the lowest interval are taken to cause no loss (the page says so).  Every number
 per record is stored (OUT/losses.parquet) and the paired bootstrap over records resamples them."""
+import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.special import ndtr
 
 from . import bootstrap, fragility, losses
 
@@ -34,20 +36,53 @@ class StripeLosses:
     irreparable: np.ndarray
     exceed_days: dict
     collapse_source: str
+    groups: dict = None  # losses.GROUPS -> records x stripes mean repair cost [USD] (nan: collapsed)
+    collapse: object = None  # the Collapse that gave p_collapse (the bootstrap refits it)
 
 
-def collapse_probability(levels, collapsed):
-    """(P_C per stripe, 'fit: theta, beta' or 'observed fraction (reason)')."""
+class Collapse:
+    """P(collapse) at the stripes from the records drawn (an index array): the stripes' collapsed
+    runs fitted (collapse_probability), or, given each record's IDA capacity (nan: it did not
+    collapse up to censored_at), the capacities' lognormal fit (fragility.fit_capacities, the
+    records that did not collapse censored); beta_m widens either."""
+
+    def __init__(self, levels, collapsed, beta_m=0.0, capacities=None, censored_at=None):
+        self.levels, self.collapsed, self.beta_m = np.asarray(levels, dtype=float), collapsed, beta_m
+        self.capacities, self.censored_at = capacities, censored_at
+
+    def __call__(self, rows):
+        if self.capacities is None:
+            return collapse_probability(self.levels, self.collapsed[rows], self.beta_m)
+        cap, cen = self.capacities[rows], self.censored_at[rows]
+        try:
+            fit = fragility.fit_capacities(cap[np.isfinite(cap)], cen[~np.isfinite(cap)])
+        except fragility.FragilityError as err:
+            return np.full(self.levels.size, np.nan), f"no IDA fit ({err.kind})"
+        beta = math.hypot(fit.beta, self.beta_m)
+        p = ndtr(np.log(self.levels / fit.theta) / beta)
+        widened = f" widened by beta_m = {self.beta_m:g} to {beta:.3g}" if self.beta_m else ""
+        return p, (f"IDA capacities' lognormal fit: median {fit.theta:.4g}, beta {fit.beta:.3g}{widened} "
+                   f"({fit.censored} of {fit.n} records did not collapse)")
+
+
+def collapse_probability(levels, collapsed, beta_m=0.0):
+    """(P_C per stripe, 'fit: theta, beta' or 'observed fraction (reason)'); beta_m, a modelling
+    dispersion (FEMA P-695 Table 7-2), widens the fit: sqrt(beta^2 + beta_m^2)."""
     try:
         fit = fragility.fit_records(levels, collapsed)
     except fragility.FragilityError as err:
         return collapsed.mean(axis=0), f"observed fraction per stripe (no lognormal fit: {err.kind})"
-    return fit.probability(levels), f"lognormal fit: median {fit.theta:.4g}, beta {fit.beta:.3g}"
+    beta = math.hypot(fit.beta, beta_m)
+    with np.errstate(divide="ignore"):
+        p = ndtr(np.log(np.asarray(levels, dtype=float) / fit.theta) / beta)
+    widened = f" widened by beta_m = {beta_m:g} to {beta:.3g}" if beta_m else ""
+    return p, f"lognormal fit: median {fit.theta:.4g}, beta {fit.beta:.3g}{widened}"
 
 
-def stripe_losses(study, rows, configuration, components, realizations, seed, sink=None):
+def stripe_losses(study, rows, configuration, components, realizations, seed, sink=None, collapse=None):
     """StripeLosses of one configuration (rows: the study's run rows); `sink(level, frame)` receives
-    each stripe's realizations (losses.repair's frame with record_index)."""
+    each stripe's realizations (losses.repair's frame with record_index); `collapse` a Collapse
+    (default: the stripes' collapsed runs)."""
     spec = study.losses
     levels = np.asarray(study.levels)
     n_rec, n_lev = len(study.records), len(levels)
@@ -56,10 +91,12 @@ def stripe_losses(study, rows, configuration, components, realizations, seed, si
     index = {v: j for j, v in enumerate(study.levels)}
     for r in mine:
         collapsed[r["record_index"], index[r["level"]]] = bool(r["collapsed"])
-    p_c, source = collapse_probability(levels, collapsed)
+    collapse = collapse or Collapse(levels, collapsed, study.beta_m)
+    p_c, source = collapse(np.arange(n_rec))
     thresholds = spec["repair_days"]
     cost, irreparable = np.full((n_rec, n_lev), np.nan), np.full((n_rec, n_lev), np.nan)
     exceed = {t: np.full((n_rec, n_lev), np.nan) for t in thresholds}
+    groups = {g: np.full((n_rec, n_lev), np.nan) for g in losses.GROUPS}
     names = [f"{name}-1" for name in _demand_names(study.storeys)]
     for j, level in enumerate(study.levels):
         standing = [r for r in mine if r["level"] == level and not r["collapsed"]]
@@ -78,7 +115,9 @@ def stripe_losses(study, rows, configuration, components, realizations, seed, si
         irreparable[rec, j] = grouped["irreparable"].mean().to_numpy()
         for t in thresholds:
             exceed[t][rec, j] = (found["days_parallel"] > t).groupby(found["record"], sort=False).mean().to_numpy()
-    return StripeLosses(p_c, collapsed, cost, irreparable, exceed, source)
+        for g in losses.GROUPS:
+            groups[g][rec, j] = grouped[f"cost_{g}"].mean().to_numpy()
+    return StripeLosses(p_c, collapsed, cost, irreparable, exceed, source, groups, collapse)
 
 
 def _demand_names(storeys):
@@ -100,7 +139,10 @@ def annual(study, stripes, rows_drawn, rate):
     bootstrap's draw; collapse refitted on it)."""
     spec = study.losses
     weights = hazard_weights(study.levels, rate)
-    p_c, _ = collapse_probability(np.asarray(study.levels), stripes.collapsed[rows_drawn])
+    collapse = stripes.collapse or Collapse(study.levels, stripes.collapsed, study.beta_m)
+    p_c, _ = collapse(rows_drawn)
+    if np.isnan(p_c).any():
+        return [math.nan] * (1 + len(spec["repair_days"]))
     cost = _mean_standing(stripes.cost[rows_drawn])
     cost = np.where(np.isnan(cost), spec["replacement_cost"], cost)  # every drawn record collapsed there
     out = [float(np.sum(weights * (p_c * spec["replacement_cost"] + (1 - p_c) * cost)))]

@@ -178,6 +178,33 @@ def repair(demands, components, replacement_cost, replacement_days, floor_area, 
         days_parallel = total[("repair_time", "parallel")].to_numpy(float) / workers
         days_sequential = total[("repair_time", "sequential")].to_numpy(float) / workers
     irreparable = (model.damage.ds_model.ds_sample["irreparable"].max(axis=1) == 1).to_numpy()
-    return pd.DataFrame({"record": np.repeat(demands.index.to_numpy(), realizations), "cost": cost,
-                         "days_parallel": days_parallel, "days_sequential": days_sequential,
-                         "irreparable": irreparable})
+    out = pd.DataFrame({"record": np.repeat(demands.index.to_numpy(), realizations), "cost": cost,
+                        "days_parallel": days_parallel, "days_sequential": days_sequential,
+                        "irreparable": irreparable})
+    for group, value in _group_costs(model.loss.sample, n).items():
+        out[f"cost_{group}"] = value
+    return out
+
+
+#: cost groups of the page: structural (B.10, drift), other drift-sensitive, acceleration-sensitive
+GROUPS = ("structural", "drift", "acceleration")
+
+
+def group_of(cid):
+    """The cost group of a library component, from its demand type."""
+    demand = str(library("fragility").loc[cid, ("Demand", "Type")])
+    if "Interstory Drift" in demand:
+        return "structural" if cid.startswith("B.10") else "drift"
+    return "acceleration"
+
+
+def _group_costs(sample, n):
+    """Per realization the repair cost of each group (replacement in none of them: a replaced
+    building has no component repairs)."""
+    out = {g: np.zeros(n) for g in GROUPS}
+    if sample is None or not len(sample.columns) or len(sample) != n:
+        return out
+    cost = sample.loc[:, sample.columns.get_level_values(0) == "Cost"]
+    for cid in set(cost.columns.get_level_values(1)) - {"replacement"}:
+        out[group_of(cid)] += cost.loc[:, cost.columns.get_level_values(1) == cid].to_numpy(float).sum(axis=1)
+    return out

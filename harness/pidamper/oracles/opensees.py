@@ -205,3 +205,32 @@ def run_building(model, samples, dt_record, dt, stop_time, floors=None):
         out_t.append((i + 1) * dt_record)
         out_x.append([ops.nodeDisp(k, 1) for k in floors])
     return out_t, out_x
+
+
+def pushover_curve(masses, stiffnesses, yield_forces, ratios, heights, p_delta, pattern, roof_target, steps,
+                   g=9.81):
+    """OpenSees's static pushover of the yielding shear building: lateral loads proportional to
+    `pattern` (per floor), the roof displacement driven to roof_target [m] in `steps` equal
+    increments (DisplacementControl, Newton); returns (roof displacements [m], base shears [N])."""
+    ops = shear_building(masses, stiffnesses, yield_forces, ratios, heights, 0.0, p_delta, g)
+    n = len(masses)
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    for k, value in enumerate(pattern, start=1):
+        ops.load(k, float(value))
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("FullGeneral")
+    ops.test("NormDispIncr", 1e-12, 50)
+    ops.algorithm("Newton")
+    ops.integrator("DisplacementControl", n, 1, float(roof_target) / steps)
+    ops.analysis("Static")
+    total = float(sum(pattern))
+    roof, shear = [0.0], [0.0]
+    for _ in range(int(steps)):
+        if ops.analyze(1) != 0:
+            break
+        roof.append(ops.nodeDisp(n, 1))
+        shear.append(ops.getLoadFactor(1) * total)
+    ops.wipe()
+    return roof, shear
