@@ -7,7 +7,7 @@ and the mean annual frequency of exceeding it from a hazard curve.
 The study file (TOML; every field is checked, a refusal names the field, its value and what is
 allowed):
 
-    [study]          name, description
+    [study]          name, description, scope (what the study is and is not: a paragraph on the page)
     [building]       FMU parameters of the building (storeys 1..10: DampedShearBuilding<N>.fmu runs
                      it; floor_m, storey_k: a number or a list, zeta_s, fidelity "damped"...; or
                      storeys = 0, the pendulum primary of PendulumImpactDamper.fmu, whose displacement
@@ -130,6 +130,7 @@ class Study:
     bootstrap: int = 500
     seed: int = 0
     description: str = ""
+    scope: str = ""
     folder: Path = Path(".")
     records: list = field(default_factory=list)
     losses: dict = field(default_factory=dict)
@@ -266,7 +267,7 @@ def parse(data, source="study", folder=Path("."), text=""):
                   suite=_table(data, "suite", source), measure=measure, levels=[float(v) for v in levels],
                   zeta=float(zeta), damage_states=states, hazard=hazard, step=run.get("step"),
                   bootstrap=int(run.get("bootstrap", 500)), seed=int(run.get("seed", 0)),
-                  description=head.get("description", ""), folder=folder, losses=loss_spec, beta_m=float(beta_m),
+                  description=head.get("description", ""), scope=head.get("scope", ""), folder=folder, losses=loss_spec, beta_m=float(beta_m),
                   p695=p695_spec, ida=ida_spec)
     try:
         study.records = ground_motion.suite(study.suite, folder)
@@ -642,6 +643,38 @@ def analyse(study, rows):
     return fits, risk(study, fits)
 
 
+def risk_intervals(study, fits):
+    """{state: {configuration: [Interval of the median ratio, Interval of the MAF ratio]}} to the
+    first configuration: the paired bootstrap over records (bootstrap.paired), both fits redone on
+    each draw; {} for a state whose fits failed."""
+    from . import bootstrap
+
+    levels = np.asarray(study.levels)
+    confs = list(study.configurations)
+    maf = _maf(study)
+    out = {}
+    for state in study.damage_states:
+        if any(fits[c][state].fit is None for c in confs) or len(confs) < 2:
+            out[state] = {}
+            continue
+
+        def statistic(rows, state=state):
+            found = [fragility.fit_records(levels, fits[c][state].exceed[rows]) for c in confs]
+            return [x for f in found[1:] for x in (f.theta / found[0].theta, maf(f) / maf(found[0]))]
+
+        found = bootstrap.paired(statistic, len(study.records), n=study.bootstrap, seed=study.seed)
+        out[state] = {c: found[2 * i:2 * i + 2] for i, c in enumerate(confs[1:])}
+    return out
+
+
+def _maf(study):
+    hazard = study.hazard
+    if "table" in hazard:
+        table = np.genfromtxt(study.folder / hazard["table"], delimiter=",", names=True)
+        return lambda fit: fragility.maf_table(fit, table["im"], table["rate"])
+    return lambda fit: fragility.maf_power_law(fit, hazard["k0"], hazard["k"])
+
+
 def hazard_rate(study, slope=1.0):
     """lambda(x) [1/yr] of the study's hazard; slope scales the power law's k about its upper
     point (the sensitivity row: the rate at the higher of two cited points kept)."""
@@ -660,12 +693,7 @@ def hazard_rate(study, slope=1.0):
 def risk(study, fits):
     """Rows (state, MAF per configuration, ratio of each to the first) from the study's hazard; a
     state without a fit has no MAF (nan)."""
-    hazard = study.hazard
-    if "table" in hazard:
-        table = np.genfromtxt(study.folder / hazard["table"], delimiter=",", names=True)
-        maf = lambda fit: fragility.maf_table(fit, table["im"], table["rate"])  # noqa: E731
-    else:
-        maf = lambda fit: fragility.maf_power_law(fit, hazard["k0"], hazard["k"])  # noqa: E731
+    maf = _maf(study)
     confs = list(study.configurations)
     rows = []
     for state in study.damage_states:
@@ -737,7 +765,7 @@ NO_FIT = {"none": "no run reached it", "all": "every run reached it at every str
           "single_level": "all runs at one level", "decreasing": "exceedance does not rise with intensity"}
 
 
-def write_page(study, rows, fits, risks, out, command, wall, workers, extra=()):
+def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), stages=(), intervals=None):
     out = Path(out)
     plot_ida(study, rows, out / "ida.png")
     plot_fragility(study, fits, out / "fragility.png")
@@ -748,12 +776,15 @@ def write_page(study, rows, fits, risks, out, command, wall, workers, extra=()):
                    f"the power law lambda(IM) = k0 IM^-k with k0 = {hazard['k0']:.4g}, k = {hazard['k']:g} "
                    f"(IM in {study.unit})")
     lines = [f"# Assessment: {study.name}", "", study.description, "",
+             *(["**What this study is and is not.** " + study.scope, ""] if study.scope else []),
              f"Written by `{command}` on {platform.machine()} ({cpu_model()}), Python {platform.python_version()}: "
              f"{len(rows)} runs ({len(study.records)} records x {len(study.levels)} levels x {len(confs)} "
              f"configurations), {wall:.0f} s wall on {workers} worker(s), {cpu.mean():.2f} s CPU per run "
-             f"(median {np.median(cpu):.2f} s). The cost on 1 and 2 workers and its extrapolation to larger "
+             f"(median {np.median(cpu):.2f} s)." + (" The cost on 1 and 2 workers and its extrapolation to larger "
              "studies: `python -m pidamper.benchmarks.assess_scaling` writes [scaling.md](scaling.md) beside the "
-             "shipped study's page.", "",
+             "shipped study's page." if (out / "scaling.md").exists() else "")
+             + (" Wall time by stage: " + ", ".join(f"{name} {sec:.0f} s" for name, sec in stages) + "."
+                if stages else ""), "",
              f"Intensity: {study.label}, stripes {', '.join(f'{v:g}' for v in study.levels)}; records scaled to "
              "each level. Demand: peak inter-storey drift ratio, the building FMU's exact running maximum "
              "(located between the communication points; the pendulum primary's over them) (storey "
@@ -778,6 +809,17 @@ def write_page(study, rows, fits, risks, out, command, wall, workers, extra=()):
     for state, values, ratios in risks:
         lines.append(f"| {state} | " + " | ".join(f"{values[c]:.3g}" for c in confs) + " | " +
                      " | ".join(f"**{ratios[c]:.3g}**" for c in confs[1:]) + " |")
+    if intervals and any(intervals.values()):
+        lines += ["", f"Ratios with 90 % intervals (paired bootstrap over records, {study.bootstrap} resamples, "
+                  "both configurations refitted on each draw):", "",
+                  "| damage state | " + " | ".join(f"median ratio {c} / {confs[0]} | MAF ratio {c} / {confs[0]}"
+                                                   for c in confs[1:]) + " | unfitted resamples |",
+                  "|---|" + "---:|" * (2 * len(confs) - 1)]
+        for state, per in intervals.items():
+            if per:
+                cells = [iv.text(3) for c in confs[1:] for iv in per[c]]
+                unfitted = max(iv.unfitted for c in confs[1:] for iv in per[c])
+                lines.append(f"| {state} | " + " | ".join(cells) + f" | {unfitted} |")
     lines += list(extra)
     lines += ["", "Demands per run: `runs.parquet` (and the journal `runs.csv`: record, level, configuration, "
               "peak drift ratio and its storey, peak floor absolute acceleration [m/s2], peak particle stroke "
@@ -1007,8 +1049,12 @@ def assess(study_path, out="assessment", engine="fmu", workers=None, dask=False,
     t0 = time.perf_counter()
     rows = run_study(study, out, engine, workers, dask, scheduler, fmu, progress)
     wall = time.perf_counter() - t0
+    stages = [("runs", wall)]
     write_parquet(rows, out / "runs.parquet")
+    t0 = time.perf_counter()
     fits, risks = analyse(study, rows)
+    intervals = risk_intervals(study, fits)
+    stages.append(("damage-state fits", time.perf_counter() - t0))
     command = command or "pidamper assess " + " ".join(shlex.quote(a) for a in [str(study_path), "--out", str(out)])
     extra, collapse = [], None
     if study.ida:
@@ -1024,9 +1070,16 @@ def assess(study_path, out="assessment", engine="fmu", workers=None, dask=False,
                   "scaled by its own intensity; the collapse fragility below (P-695 and losses) is the lognormal fit "
                   "of the records' collapse intensities (bracket midpoints), records that never collapsed censored "
                   "(`ida.csv`).", "", "![IDA to collapse](ida-collapse.png)"]
-    extra += p695_lines(study, rows, out, collapse) if study.p695 else []
-    extra += assess_losses(study, rows, out, collapse) if study.losses else []
-    write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra)
+        stages.append(("IDA", time.perf_counter() - t0))
+    for name, part, wanted in (("collapse margin", p695_lines, study.p695), ("losses", assess_losses, study.losses)):
+        if wanted:
+            t0 = time.perf_counter()
+            extra += part(study, rows, out, collapse)
+            stages.append((name, time.perf_counter() - t0))
+    t0 = time.perf_counter()
+    write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, (), intervals)
+    stages.append(("page", time.perf_counter() - t0))
+    write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, stages, intervals)
     return rows, fits, risks
 
 
