@@ -149,3 +149,11 @@ def test_an_unknown_component_and_a_hazard_that_rises_are_refused(tmp_path):
     (tmp_path / "h.csv").write_text("im,rate\n0.5,1e-3\n1.0,2e-3\n")
     with pytest.raises(assess.StudyError, match="decreasing"):
         assess.load(path)
+
+
+def test_a_study_whose_runs_never_collapse_says_so():
+    """No collapsed run: P(collapse) is the observed 0 at every stripe and the reason is given (no
+    lognormal fit is invented)."""
+    levels = np.geomspace(0.2, 3.0, 6)
+    p, text = loss_study.collapse_probability(levels, np.zeros((10, 6), bool))
+    assert np.array_equal(p, np.zeros(6)) and text == "observed fraction per stripe (no lognormal fit: none)"
