@@ -543,8 +543,7 @@ def plot_ida_traces(study, traces, path):
     import matplotlib.pyplot as plt
 
     confs = list(study.configurations)
-    fig, axes = plt.subplots(1, len(confs), figsize=(5.2 * len(confs), 4.2), sharex=True, sharey=True)
-    axes = np.atleast_1d(axes)
+    fig, axes = _panels(plt, len(confs))
     for ax, conf in zip(axes, confs):
         for r in (r for r in traces if r["configuration"] == conf):
             standing = sorted((im, d) for im, c, d in r["runs"] if not c)
@@ -704,14 +703,19 @@ def risk(study, fits):
 
 # ---- the page ------------------------------------------------------------------------------
 
+def _panels(plt, n):
+    """A figure with one panel per configuration, axes shared."""
+    fig, axes = plt.subplots(1, n, figsize=(5.2 * n, 4.2), sharex=True, sharey=True)
+    return fig, np.atleast_1d(axes)
+
+
 def plot_ida(study, rows, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     confs = list(study.configurations)
-    fig, axes = plt.subplots(1, len(confs), figsize=(5.2 * len(confs), 4.2), sharex=True, sharey=True)
-    axes = np.atleast_1d(axes)
+    fig, axes = _panels(plt, len(confs))
     for ax, conf in zip(axes, confs):
         drift = demand_matrix(study, rows, conf)
         for line in drift:
@@ -884,10 +888,12 @@ def p695_lines(study, rows, out, collapse=None):
              "| configuration | collapses (of runs) | S_CT [g] | S_MT [g] | CMR | SSF | ACMR | beta_TOT | ACMR10 | ACMR20 | "
              "ACMR >= ACMR20 |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     fits = {}
-    median = _median_collapse(study, levels, collapsed, collapse)
+    from .loss_study import Collapse
+    collapse = collapse or {c: Collapse(levels, collapsed[c], study.beta_m) for c in confs}
+    median = lambda conf, drawn: collapse[conf].fit(drawn).theta  # noqa: E731
     for c in confs:
         count = f"{int(collapsed[c].sum())} of {collapsed[c].size} stripe runs"
-        if collapse:
+        if collapse[c].capacities is not None:
             count = f"{int(np.isfinite(collapse[c].capacities).sum())} of {len(study.records)} records (IDA)"
         try:
             fits[c] = median(c, np.arange(len(study.records)))
@@ -906,17 +912,6 @@ def p695_lines(study, rows, out, collapse=None):
             f"{c} / {confs[0]}: {r.text(3)} ({r.unfitted} of {r.resamples} resamples unfitted)"
             for c, r in zip(confs[1:], ratios)) + "."]
     return lines
-
-
-def _median_collapse(study, levels, collapsed, collapse):
-    """median(configuration, rows drawn) -> the median collapse intensity: of the IDA capacities
-    (fit_capacities, censored) when `collapse` has them, else of the stripes' collapsed runs."""
-    def median(conf, rows):
-        if collapse:
-            cap, cen = collapse[conf].capacities[rows], collapse[conf].censored_at[rows]
-            return fragility.fit_capacities(cap[np.isfinite(cap)], cen[~np.isfinite(cap)]).theta
-        return fragility.fit_records(levels, collapsed[conf][rows]).theta
-    return median
 
 
 def plot_pushover(push, path):
@@ -983,7 +978,7 @@ def loss_lines(study, rows, per_conf, values, ratios, slopes):
 
     spec = study.losses
     confs = list(per_conf)
-    workers = spec["floor_area"] * 10.7639 / 1000.0
+    workers = spec["floor_area"] * losses.WORKERS_PER_M2
     lines = ["", "## Losses and repair time (FEMA P-58 with pelicun)", "",
              f"Performance model `{spec['components']}` ({len(spec['model'])} component rows, FEMA P-58 2nd edition "
              f"fragilities and repair consequences of the SimCenter Damage and Loss Model Library, USD of 2011); "

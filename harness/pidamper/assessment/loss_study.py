@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import ndtr
 
-from . import bootstrap, fragility, losses
+from . import bootstrap, demands, fragility, losses
 
 
 @dataclass
@@ -42,41 +42,43 @@ class StripeLosses:
 
 class Collapse:
     """P(collapse) at the stripes from the records drawn (an index array): the stripes' collapsed
-    runs fitted (collapse_probability), or, given each record's IDA capacity (nan: it did not
-    collapse up to censored_at), the capacities' lognormal fit (fragility.fit_capacities, the
-    records that did not collapse censored); beta_m widens either."""
+    runs fitted (fragility.fit_records; the observed fraction when they admit no fit), or, given
+    each record's IDA capacity (nan: it did not collapse up to censored_at), the capacities'
+    lognormal fit (fragility.fit_capacities, the records that did not collapse censored); beta_m,
+    a modelling dispersion (FEMA P-695 Table 7-2), widens either: sqrt(beta^2 + beta_m^2)."""
 
     def __init__(self, levels, collapsed, beta_m=0.0, capacities=None, censored_at=None):
         self.levels, self.collapsed, self.beta_m = np.asarray(levels, dtype=float), collapsed, beta_m
         self.capacities, self.censored_at = capacities, censored_at
 
-    def __call__(self, rows):
+    def fit(self, rows):
+        """The lognormal fit (theta, beta) of the records drawn; FragilityError when there is none."""
         if self.capacities is None:
-            return collapse_probability(self.levels, self.collapsed[rows], self.beta_m)
+            return fragility.fit_records(self.levels, self.collapsed[rows])
         cap, cen = self.capacities[rows], self.censored_at[rows]
+        return fragility.fit_capacities(cap[np.isfinite(cap)], cen[~np.isfinite(cap)])
+
+    def __call__(self, rows):
+        """(P_C per stripe, how it was obtained)."""
         try:
-            fit = fragility.fit_capacities(cap[np.isfinite(cap)], cen[~np.isfinite(cap)])
+            fit = self.fit(rows)
         except fragility.FragilityError as err:
+            if self.capacities is None:
+                return self.collapsed[rows].mean(axis=0), f"observed fraction per stripe (no lognormal fit: {err.kind})"
             return np.full(self.levels.size, np.nan), f"no IDA fit ({err.kind})"
         beta = math.hypot(fit.beta, self.beta_m)
-        p = ndtr(np.log(self.levels / fit.theta) / beta)
-        widened = f" widened by beta_m = {self.beta_m:g} to {beta:.3g}" if self.beta_m else ""
-        return p, (f"IDA capacities' lognormal fit: median {fit.theta:.4g}, beta {fit.beta:.3g}{widened} "
-                   f"({fit.censored} of {fit.n} records did not collapse)")
+        with np.errstate(divide="ignore"):
+            p = ndtr(np.log(self.levels / fit.theta) / beta)
+        text = f"lognormal fit: median {fit.theta:.4g}, beta {fit.beta:.3g}"
+        text += f" widened by beta_m = {self.beta_m:g} to {beta:.3g}" if self.beta_m else ""
+        if self.capacities is not None:
+            text = f"IDA capacities' {text} ({fit.censored} of {fit.n} records did not collapse)"
+        return p, text
 
 
 def collapse_probability(levels, collapsed, beta_m=0.0):
-    """(P_C per stripe, 'fit: theta, beta' or 'observed fraction (reason)'); beta_m, a modelling
-    dispersion (FEMA P-695 Table 7-2), widens the fit: sqrt(beta^2 + beta_m^2)."""
-    try:
-        fit = fragility.fit_records(levels, collapsed)
-    except fragility.FragilityError as err:
-        return collapsed.mean(axis=0), f"observed fraction per stripe (no lognormal fit: {err.kind})"
-    beta = math.hypot(fit.beta, beta_m)
-    with np.errstate(divide="ignore"):
-        p = ndtr(np.log(np.asarray(levels, dtype=float) / fit.theta) / beta)
-    widened = f" widened by beta_m = {beta_m:g} to {beta:.3g}" if beta_m else ""
-    return p, f"lognormal fit: median {fit.theta:.4g}, beta {fit.beta:.3g}{widened}"
+    """(P_C per stripe, how it was obtained) from the stripes' collapsed runs (Collapse)."""
+    return Collapse(levels, collapsed, beta_m)(np.arange(collapsed.shape[0]))
 
 
 def stripe_losses(study, rows, configuration, components, realizations, seed, sink=None, collapse=None):
@@ -97,7 +99,7 @@ def stripe_losses(study, rows, configuration, components, realizations, seed, si
     cost, irreparable = np.full((n_rec, n_lev), np.nan), np.full((n_rec, n_lev), np.nan)
     exceed = {t: np.full((n_rec, n_lev), np.nan) for t in thresholds}
     groups = {g: np.full((n_rec, n_lev), np.nan) for g in losses.GROUPS}
-    names = [f"{name}-1" for name in _demand_names(study.storeys)]
+    names = [f"{name}-1" for name in demands.names(study.storeys)]
     for j, level in enumerate(study.levels):
         standing = [r for r in mine if r["level"] == level and not r["collapsed"]]
         if not standing:
@@ -118,11 +120,6 @@ def stripe_losses(study, rows, configuration, components, realizations, seed, si
         for g in losses.GROUPS:
             groups[g][rec, j] = grouped[f"cost_{g}"].mean().to_numpy()
     return StripeLosses(p_c, collapsed, cost, irreparable, exceed, source, groups, collapse)
-
-
-def _demand_names(storeys):
-    from .demands import names
-    return names(storeys)
 
 
 def hazard_weights(levels, rate):
