@@ -67,6 +67,35 @@ def test_a_run_that_collapses_stops_with_its_demands_there(record):
     assert all(math.isnan(found[f"RID-{k}"]) for k in (1, 2, 3))
 
 
+def through_simulate_fmu(values, accel, dt, period, h):
+    """The demands as fmpy.simulate_fmu's full run table gives them (pidamper.run records every output
+    at every communication point, stops after the collapse; demands_of reads the table)."""
+    times, ground = demands.with_tail(accel, dt, period)
+    slots = [f"impact[{k}].v_rel_before" for k in range(1, demands.SLOTS + 1)] + ["impacts_in_step",
+                                                                               "impacts_unrecorded"]
+    result = run(values, Forcing("record", {}, table=(times, ground), target="a_g"),
+                 stop_time=int(round(times[-1] / h)) * h, output_interval=h, extra_outputs=slots)
+    return demands.demands_of(result.data, values["storeys"], [3.0] * 3, float(np.abs(accel).max()), period, h,
+                              "collapsed" in result.meta)
+
+
+@pytest.mark.parametrize("case, scale, step", [("damper", 3.0, None), ("damper", 3.0, 0.004),
+                                               ("collapse", 15.0, None)])
+def test_run_demands_reads_what_simulate_fmu_records(record, case, scale, step):
+    """run_demands steps the FMU itself and reads a few outputs: every demand equals, to the last bit,
+    the one read off fmpy.simulate_fmu's table of every output (a damper with impacts, a step that is
+    not the record's interval, a run that collapses and stops)."""
+    extra = {"damper": {"mu": 0.05, "FR": 0.95, "d": 0.02, "e": 0.5}, "collapse": {"p_delta": 1}}[case]
+    values = {**assess.start_values({**BUILDING, **extra}), **{f"storey[{k}].h": 3.0 for k in (1, 2, 3)}}
+    found = demands.run_demands(values, scale * record.accel, record.dt, period(values), step)
+    expected = through_simulate_fmu(values, scale * record.accel, record.dt, period(values), step or record.dt)
+    assert set(found) == set(expected)
+    same = lambda a, b: a == b or (math.isnan(a) and math.isnan(b))  # noqa: E731
+    assert all(same(found[k], expected[k]) for k in found), {k: (found[k], expected[k]) for k in found
+                                                              if not same(found[k], expected[k])}
+    assert found["collapsed"] == (case == "collapse") and (found["impacts"] > 0) == (case == "damper")
+
+
 def test_pelicun_names():
     row = {name: float(j) for j, name in enumerate(demands.names(2))}
     assert list(demands.pelicun_columns(row, 2, event=3)) == [

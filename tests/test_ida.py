@@ -4,7 +4,7 @@ record that never collapses gets no capacity."""
 import numpy as np
 import pytest
 
-from pidamper.assessment.ida import hunt_and_fill
+from pidamper.assessment.ida import Trace, at_level, hunt_and_fill
 
 
 @pytest.mark.parametrize("capacity", np.linspace(0.25, 1.2, 12))
@@ -41,6 +41,43 @@ def test_runs_left_fill_the_curve_below_collapse():
 def test_a_record_that_never_collapses_has_no_capacity():
     trace = hunt_and_fill(lambda im: (False, im), first=0.1, step=0.1, max_runs=10)
     assert not trace.collapsed and trace.capacity is None and len(trace.runs) == 10
+
+
+def linear_trace(capacity=3.0):
+    """Hunt and fill on a record whose demands are linear in the intensity up to its collapse."""
+    def run(im):
+        return im >= capacity, {"PID-1": 0.01 * im, "PFA-1": 4.0 * im + 0.0, "impacts": 10 * im, "collapsed": 0,
+                                "t_end": 30.0}
+    return hunt_and_fill(run, first=0.25, step=0.75, increment=0.5, tolerance=0.05, max_runs=10)
+
+
+@pytest.mark.parametrize("level", [0.1, 0.25, 0.4, 0.63, 1.37, 2.5])
+def test_stripe_demands_are_read_off_the_ida_curve(level):
+    """Below the collapse intensity every demand of a linear IDA curve is recovered exactly (the
+    curve from (0, 0), linear between runs); the flags say whether a run was there."""
+    trace = linear_trace()
+    found, collapsed, exact = at_level(trace, level)
+    assert not collapsed and exact == any(im == level for im, _, _ in trace.runs)
+    assert found["PID-1"] == pytest.approx(0.01 * level, rel=1e-12)
+    assert found["PFA-1"] == pytest.approx(4.0 * level, rel=1e-12) and found["impacts"] == pytest.approx(10 * level)
+    assert found["t_end"] == 30.0 and found["collapsed"] == 0  # how the run ended: never interpolated
+
+
+def test_at_and_above_the_capacity_a_stripe_takes_the_collapsing_run():
+    trace = linear_trace()
+    lowest = min(im for im, c, _ in trace.runs if c)
+    for level in (trace.capacity, lowest, 5.0, 50.0):
+        found, collapsed, exact = at_level(trace, level)
+        assert collapsed and found["PID-1"] == pytest.approx(0.01 * lowest) and exact == (level == lowest)
+    # between the highest standing run and the capacity (half a bracket): that run's demands
+    found, collapsed, _ = at_level(trace, 0.5 * (trace.lo + trace.capacity))
+    assert not collapsed and found["PID-1"] == pytest.approx(0.01 * trace.lo)
+
+
+def test_a_record_never_traced_up_to_a_stripe_has_no_demands_there():
+    trace = hunt_and_fill(lambda im: (False, {"PID-1": im}), first=0.1, step=0.1, increment=0.0, max_runs=3)
+    assert at_level(trace, 0.3)[0]["PID-1"] == pytest.approx(0.3) and at_level(trace, 0.31) is None
+    assert at_level(Trace([(0.2, True, {"PID-1": 0.1})], 0.0, 0.2), 0.05) is None  # collapsed at its first run
 
 
 def test_bad_arguments_are_named():
@@ -112,8 +149,75 @@ zeta_g = 0.6
         return "collapsed" in run(values, signal, stop_time=round(times[-1], 6), output_interval=record.dt).meta
 
     assert collapses(trace.hi) and not collapses(trace.lo)
-    curve = trace.curve()
+    curve = [(im, found["PID-1"]) for im, found in trace.curve()]
     assert all(b[1] >= a[1] for a, b in zip(curve, curve[1:])) and math.isfinite(curve[-1][1])
+
+
+ELASTIC_STUDY = """
+[study]
+name = "elastic-ida"
+[building]
+storeys = 2
+floor_m = 1.0e5
+storey_k = 8.0e7
+storey_height = 3.0
+p_delta = 1
+zeta_s = 0.02
+fidelity = "damped"
+[configurations.bare]
+mu = 0.0
+d = 100.0
+[intensity]
+measure = "Sa"
+levels = [0.15, 0.3]
+[damage_states]
+DS1 = 0.001
+[hazard]
+k0 = 1e-3
+k = 2.0
+[ida]
+first = 0.2
+step = 0.2
+max_runs = 3
+[suite]
+generator = "kanai-tajimi"
+count = 2
+duration = 4.0
+dt = 0.01
+pga = 1.0
+omega_g = 15.6
+zeta_g = 0.6
+"""
+
+
+def test_interpolated_stripes_agree_with_runs_of_an_elastic_building(tmp_path, fmu_dir):
+    """An elastic building (with P-Delta) answers in proportion to the record's scale: its IDA curve
+    is straight, so the stripes read off it (between runs, and from (0, 0) below the first) agree
+    with separate runs of each record scaled to the stripe (the same record and tail, run apart)."""
+    from pidamper.assessment import assess, demands
+
+    path = tmp_path / "elastic.toml"
+    path.write_text(ELASTIC_STUDY)
+    study = assess.load(path)
+    assert study.ida["stripes"] == "interpolate"
+    rows = assess.stripe_rows(study, assess.run_ida(study, tmp_path / "out", workers=1, progress=False))
+    assert len(rows) == 2 * 2 and all(r["interpolated"] == 1 and r["collapsed"] == 0 for r in rows)
+    values = assess.start_values({**study.building, **study.configurations["bare"]})
+    for row in rows:
+        record = study.records[row["record_index"]]
+        direct = demands.run_demands(values, row["factor"] * record.accel, record.dt, study.period)
+        for key in ("PID-1", "PID-2", "PFA-1", "PFA-2", "PFV-2"):
+            assert row[key] == pytest.approx(direct[key], rel=1e-9), key
+        assert row["factor"] == pytest.approx(row["level"] / study.intensity(record), rel=1e-15)
+
+
+def test_a_hunt_that_cannot_reach_the_top_stripe_is_refused(tmp_path):
+    from pidamper.assessment import assess
+
+    path = tmp_path / "short.toml"
+    path.write_text(ELASTIC_STUDY.replace("levels = [0.15, 0.3]", "levels = [0.15, 3.0]"))
+    with pytest.raises(assess.StudyError, match=r"ida.max_runs = 3 .*reach 0.7 only"):
+        assess.load(path)
 
 
 def test_collapse_fragility_from_capacities_is_scipys_lognormal_mle():
@@ -143,3 +247,22 @@ def test_collapse_fragility_from_capacities_is_scipys_lognormal_mle():
     assert both.theta > fit.theta and both.censored == 3 and both.n == 33
     with pytest.raises(FragilityError, match="two distinct ones or more"):
         fit_capacities([1.0])
+
+
+def test_p695_capacities_are_those_of_the_set_scaled_collectively():
+    """A record scaled with the set to level L (factor L / median IM, as assess.tasks scales a FEMA
+    P-695 set) reaches its own IDA capacity at L = capacity x median / its IM: the capacities the
+    margin's S_CT is fitted to; the losses keep each record's own."""
+    from types import SimpleNamespace
+
+    from pidamper.assessment import assess
+
+    ims, own = [1.0, 2.0, 4.0], [2.0, 2.0, 3.0]
+    traces = [{"record_index": i, "configuration": "bare", "im_record": im, "capacity": c, "lo": 0.95 * c}
+              for i, (im, c) in enumerate(zip(ims, own))]
+    study = SimpleNamespace(configurations={"bare": {}}, levels=[1.0, 2.0], beta_m=0.0)
+    collective = assess.ida_collapse(study, traces, collective=True)["bare"].capacities
+    assert list(assess.ida_collapse(study, traces)["bare"].capacities) == own
+    for im, c, level in zip(ims, own, collective):
+        assert (level / np.median(ims)) * im == pytest.approx(c, rel=1e-15)  # its own Sa at that level
+    assert list(collective) == pytest.approx([4.0, 2.0, 1.5])

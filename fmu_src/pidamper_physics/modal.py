@@ -28,6 +28,7 @@ from . import eigen
 #: |lam| / the fastest |lam| below which a mode is secular (a storey of zero tangent): its held
 #: load's part is beta tau phi1(lam tau), never beta / lam (an elastic building never has one)
 SECULAR = 1e-6
+_BOUND_ORDERS = 6  # Motion.bounds tabulates the modes to this order at least (the guards' highest)
 _SERIES = 0.25  # |w| below which phi1 is summed as a series (14 terms: below 1e-17)
 
 
@@ -159,6 +160,14 @@ class Modes:
             cache[i, j] = [w * abs(a - b) for w, a, b in zip(self.weight, self.V[i], self.V[j])]
         return cache[i, j]
 
+    def weighted_drifts(self, n):
+        """The rows (weighted, weighted_difference) of the drifts z_0, z_1 - z_0, ..., z_(n-1) - z_(n-2)
+        (a building's storeys, its floors first in z), kept."""
+        cache = self.__dict__.setdefault("_weighted_drifts", {})
+        if n not in cache:
+            cache[n] = [self.weighted(0)] + [self.weighted_difference(k, k - 1) for k in range(1, n)]
+        return cache[n]
+
     def weighted(self, i):
         """weight_k |V_ik| over the kept modes (the bounds of component i's modal parts), kept."""
         cache = self.__dict__.setdefault("_weighted", {})
@@ -185,10 +194,12 @@ class Motion:
     Modes may grow (Re lam > 0: a negative tangent stiffness) or be secular (lam ~ 0: a zero
     tangent; Modes.secular): their parts stay exact and the bounds account for the growth."""
 
-    __slots__ = ("modes", "eta0", "coef", "const", "gp", "gm", "om", "forced", "psi", "gamma", "beta", "secular")
+    __slots__ = ("modes", "eta0", "coef", "const", "gp", "gm", "om", "forced", "psi", "gamma", "beta", "secular",
+                 "_columns", "_start")
 
     def __init__(self, modes, z0, b, f=None, om=0.0, psi=0.0):
         self.modes = modes
+        self._columns = self._start = None  # caches: bounds' per-mode table over [0, T], derivatives at 0
         n = modes.n
         self.om, self.psi = om, psi
         self.forced = f is not None and any(fi != 0.0 for fi in f)
@@ -248,6 +259,21 @@ class Motion:
         eta' = lam eta + beta + gamma sin(Omega tau + psi): a few complex products per mode and
         order, cheaper than z(tau) and the system's matrices when a few rows are asked for."""
         m = self.modes
+        if tau == 0.0 and self._start is not None and len(self._start) >= orders:
+            levels = self._start
+        else:
+            levels = self._levels(tau, orders)
+            if tau == 0.0:
+                self._start = levels
+        out = {}
+        for i, (lo, hi) in rows.items():
+            row = m.weighted_complex(i)
+            out[i] = [sum([(w * e).real for w, e in zip(row, levels[j])]) for j in range(lo, hi)]
+        return out
+
+    def _levels(self, tau, orders):
+        """[eta, eta', ..., eta^(orders - 1)] of the kept modes at tau (see derivatives)."""
+        m = self.modes
         eta = self.eta0 if tau == 0.0 else self.modal(tau)
         s, c = self.load(tau)
         om = self.om
@@ -265,11 +291,7 @@ class Motion:
                 term = om ** (j - 1) * (c, -s, -c, s)[(j - 2) % 4]
                 d = [x + g * term for x, g in zip(d, self.gamma)]
             levels.append(d)
-        out = {}
-        for i, (lo, hi) in rows.items():
-            row = m.weighted_complex(i)
-            out[i] = [sum([(w * e).real for w, e in zip(row, levels[j])]) for j in range(lo, hi)]
-        return out
+        return levels
 
     def load(self, tau):
         """(sin, cos) of Omega tau + psi (0, 0 unforced)."""
@@ -283,6 +305,22 @@ class Motion:
         over 0 <= tau <= T (Re lam <= 0 makes |exp(lam tau)| <= 1).  Only the components `rows`
         (indices), if given; or of the linear functions c . z whose modal rows (c V) are `vectors`,
         or whose rows weight_k |(c V)_k| are `weighted` (Modes.weighted, weighted_difference)."""
+        m = self.modes
+        cached = self._columns  # the per-mode table of the last T, to the highest order asked
+        if cached is not None and cached[0] == T and len(cached[1]) >= orders:
+            columns = cached[1]
+        else:
+            columns = self._columns_over(T, max(orders, _BOUND_ORDERS))
+            self._columns = (T, columns)
+        if weighted is None and vectors is None:  # the components' rows (weight |V|, kept with the modes)
+            weighted = [m.weighted(i) for i in (range(2 * m.n) if rows is None else rows)]
+        elif weighted is None:  # (weight |V|) first, as the sum always did
+            weighted = [[w * abs(v) for w, v in zip(m.weight, vrow)] for vrow in vectors]
+        return [[sum(map(mul, scaled, column)) for column in columns[:orders]] for scaled in weighted]
+
+    def _columns_over(self, T, orders):
+        """Per order j < orders, per kept mode: the bound of |eta_k^(j)| (j = 0: of its swing about
+        the constant part) over [0, T]."""
         m = self.modes
         om = self.om
         per_mode = []
@@ -309,12 +347,7 @@ class Motion:
                 if lam.real > 1e-9 * m.fastest:
                     grow = math.exp(lam.real * T)
                     per_mode[k] = [r * grow for r in per_mode[k]]
-        columns = list(zip(*per_mode))  # per order, the modes' bounds
-        if weighted is None and vectors is None:  # the components' rows (weight |V|, kept with the modes)
-            weighted = [m.weighted(i) for i in (range(2 * m.n) if rows is None else rows)]
-        elif weighted is None:  # (weight |V|) first, as the sum always did
-            weighted = [[w * abs(v) for w, v in zip(m.weight, vrow)] for vrow in vectors]
-        return [[sum(map(mul, scaled, column)) for column in columns] for scaled in weighted]
+        return list(zip(*per_mode))  # per order, the modes' bounds
 
     def rest(self, rows=None, vectors=None):
         """Per component of z: the constant part (the equilibrium under the held load b); only

@@ -202,7 +202,7 @@ class ModalPiece:
         drift's third derivative) over the piece."""
         motion, floors = self.seg.motion, self.floors
         modes = motion.modes
-        drifts = [modes.weighted(0)] + [modes.weighted_difference(k, k - 1) for k in range(1, floors)]
+        drifts = modes.weighted_drifts(floors)
         return motion.bounds(self.tau, 6, range(floors)), [b[3] for b in motion.bounds(self.tau, 4, weighted=drifts)]
 
     def derivatives(self, s, floors):

@@ -255,8 +255,7 @@ class StoreyGuards:
         self.n = n = storeys.n
         self.guards = guards = storeys.guards()
         modes = motion.modes
-        bd = motion.bounds(T, 6, weighted=[modes.weighted(0)] + [modes.weighted_difference(k, k - 1)
-                                                                  for k in range(1, n)])
+        bd = motion.bounds(T, 6, weighted=modes.weighted_drifts(n))
         start = self._drifts(0.0, 5)
         b2 = b3 = b4 = n0 = 0.0
         noise = [0.0, 0.0, 0.0]
@@ -318,7 +317,7 @@ class RegimePiece:
     def bounds(self):
         motion, n = self.motion, self.n
         modes = motion.modes
-        drifts = [modes.weighted(0)] + [modes.weighted_difference(k, k - 1) for k in range(1, n)]
+        drifts = modes.weighted_drifts(n)
         return motion.bounds(self.tau, 6, range(n)), [b[3] for b in motion.bounds(self.tau, 4, weighted=drifts)]
 
     def derivatives(self, s, floors):

@@ -28,9 +28,11 @@ allowed):
                      repair cost and time with pelicun (losses, loss_study)
     [p695]           sdc ("dmax"), ratings (["B", "B", "C"]), record_set ("farfield"): FEMA P-695's
                      collapse margin with the pushover's mu_T (p695)
-    [ida]            first, step [levels' unit], increment, tolerance (0.05), max_runs (10): each
-                     record's IDA to collapse by hunt and fill; its capacities then give the collapse
-                     fragility of [p695] and [losses]
+    [ida]            first, step [levels' unit], increment, tolerance (0.05), max_runs (10), stripes
+                     ("interpolate" or "run"): each record's IDA to collapse by hunt and fill; its
+                     capacities then give the collapse fragility of [p695] (in the intensity of the set
+                     scaled collectively) and [losses]; with stripes = "interpolate" (the default) the
+                     stripes' demands are read off the IDA curves and no stripe is run
     [run]            step [s] (communication step; default the records' dt), bootstrap (default 500),
                      seed (default 0), beta_m (modelling dispersion added to the collapse fragility;
                      default 0)
@@ -40,12 +42,14 @@ Each run is one record scaled to one level, in one configuration, through the FM
 (drift / storey height) and peak floor absolute acceleration, a building's exact running maxima
 (located between the communication points inside the FMU; the pendulum primary's over the
 communication points), peak particle stroke |x - y| at the damper floor (over the communication
-points), impact count. Runs go to a process pool or Dask as in
+points), impact count; a building run also gives the FEMA P-58 demands (assessment.demands). Runs
+(the costliest first) go to a process pool or Dask as in
 `pidamper study`; each finished run is appended to OUT/runs.csv at once, so an interrupted study
 resumes; OUT/runs.parquet is the tidy table at the end. OUT/README.md has the IDA and fragility
 figures, the fragility and risk tables, the study file and the command.
 """
 import argparse
+import functools
 import hashlib
 import json
 import math
@@ -88,7 +92,9 @@ SECTIONS = ("study", "building", "configurations", "suite", "intensity", "damage
 IDA_FIELDS = {"first": "the first intensity (levels' unit, > 0)", "step": "the hunt's first step (> 0)",
               "increment": "the hunt's step growth (>= 0; default step / 2)",
               "tolerance": "the bracket's relative width (0..1; default 0.05)",
-              "max_runs": "runs per record (an integer >= 2; default 10)"}
+              "max_runs": "runs per record (an integer >= 2; default 10)",
+              "stripes": "the stripes' demands: \"interpolate\" (on the IDA curves, no stripe runs; the default) "
+                         "or \"run\" (every record run at every stripe, scaled collectively for a FEMA P-695 set)"}
 #: [p695]: FEMA P-695's collapse margin (p695.margin): seismic design category, the ratings of design
 #: requirements, test data and model (Table 7-2), the record set of the spectral shape factor
 P695_FIELDS = {"sdc": ("dmax", "dmin", "cmax", "cmin", "bmax", "bmin"), "ratings": "three of A, B, C, D",
@@ -261,7 +267,7 @@ def parse(data, source="study", folder=Path("."), text=""):
         raise StudyError(source, "run.beta_m", beta_m, "a modelling dispersion in [0, 2) (FEMA P-695 Table 7-2: "
                          "0.10 superior to 0.50 poor)")
     p695_spec = _p695(_table(data, "p695", source), source)
-    ida_spec = _ida(_table(data, "ida", source), source)
+    ida_spec = _ida(_table(data, "ida", source), source, levels)
     study = Study(name=head.get("name", Path(source).stem), source=source, text=text, building=building,
                   heights=[float(h) for h in heights], configurations=configurations,
                   suite=_table(data, "suite", source), measure=measure, levels=[float(v) for v in levels],
@@ -296,8 +302,9 @@ def _hazard_points(hazard, source):
     return {"k0": k0, "k": k}
 
 
-def _ida(spec, source):
-    """The [ida] section checked ({} without one)."""
+def _ida(spec, source, levels):
+    """The [ida] section checked ({} without one).  Stripes interpolated on the IDA curves need a hunt
+    that climbs past the top stripe within max_runs (a record that never collapses is traced that far)."""
     if not spec:
         return {}
     for key in spec:
@@ -313,7 +320,25 @@ def _ida(spec, source):
         raise StudyError(source, "ida.tolerance", out["tolerance"], IDA_FIELDS["tolerance"])
     if not isinstance(out["max_runs"], int) or out["max_runs"] < 2:
         raise StudyError(source, "ida.max_runs", out["max_runs"], IDA_FIELDS["max_runs"])
+    out.setdefault("stripes", "interpolate")
+    if out["stripes"] not in ("interpolate", "run"):
+        raise StudyError(source, "ida.stripes", out["stripes"], IDA_FIELDS["stripes"])
+    top = max(hunt_ladder(out))
+    if out["stripes"] == "interpolate" and top < max(levels):
+        raise StudyError(source, "ida.max_runs", out["max_runs"], f"a hunt that reaches the top stripe "
+                         f"{max(levels):g} (first, step, increment and max_runs reach {top:g} only): more runs "
+                         "or longer steps")
     return out
+
+
+def hunt_ladder(spec):
+    """The intensities the [ida] hunt visits when no run collapses (ida.hunt_and_fill)."""
+    from .ida import hunt_and_fill
+
+    seen = []
+    hunt_and_fill(lambda im: (seen.append(im), (False, None))[1], spec["first"], spec["step"], spec.get("increment"),
+                  spec["tolerance"], spec["max_runs"])
+    return seen
 
 
 def _p695(spec, source):
@@ -427,10 +452,7 @@ def run_task(task, engine="fmu", path=None):
     if engine == "fmu" and storeys:  # the building FMU's exact running maxima, a tail for the residual drift
         found = demands.run_demands(task["values"], accel, task["dt"], task["period"], task["step"], path,
                                     task["record"])
-        ratio = np.array([found[f"PID-{k}"] for k in range(1, storeys + 1)])
-        row.update(found, floor_accel=max(found[f"PFA-{k}"] for k in range(1, storeys + 1)))
-        row.update(drift_ratio=float(ratio.max()), drift_storey=int(ratio.argmax()) + 1,
-                   cpu_s=time.process_time() - cpu)
+        row.update(found, **_largest(found, storeys), cpu_s=time.process_time() - cpu)
         return row
     if engine == "fmu":
         data = run(task["values"], signal, stop_time=n * h, output_interval=h, fmu=path).data
@@ -461,7 +483,14 @@ def run_task(task, engine="fmu", path=None):
     return row
 
 
-IDA_COLUMNS = ("key", "record", "record_index", "configuration", "capacity", "lo", "hi", "runs", "cpu_s")
+def _largest(found, storeys):
+    """The run's largest storey drift ratio, its storey (1..N) and the largest floor acceleration."""
+    ratio = np.array([found[f"PID-{k}"] for k in range(1, storeys + 1)])
+    return {"drift_ratio": float(ratio.max()), "drift_storey": int(ratio.argmax()) + 1,
+            "floor_accel": float(max(found[f"PFA-{k}"] for k in range(1, storeys + 1)))}
+
+
+IDA_COLUMNS = ("key", "record", "record_index", "configuration", "im_record", "capacity", "lo", "hi", "runs", "cpu_s")
 
 
 def ida_tasks(study):
@@ -472,7 +501,8 @@ def ida_tasks(study):
         for name, params in study.configurations.items():
             values = start_values({**study.building, **params})
             ident = {"record": record.name, "configuration": name, "values": values, "step": study.step,
-                     "samples": record_digest(record), "ida": study.ida, "tail": demands.TAIL_PERIODS}
+                     "samples": record_digest(record), "ida": study.ida, "tail": demands.TAIL_PERIODS,
+                     "demands": "all"}
             out.append({"key": hashlib.sha1(json.dumps(ident, sort_keys=True).encode()).hexdigest()[:16],
                         "record": record.name, "record_index": index, "configuration": name, "values": values,
                         "im_record": im, "dt": record.dt, "accel": record.accel.tolist(), "step": study.step,
@@ -482,24 +512,28 @@ def ida_tasks(study):
 
 def run_ida_task(task, engine="fmu", path=None):
     """One record's IDA (ida.hunt_and_fill) through the building FMU: each run the record scaled to
-    the intensity by its own value, stopped at collapse; the demand its largest storey drift ratio."""
+    the intensity by its own value, stopped at collapse; its demands (demands.run_demands) kept."""
     from .ida import hunt_and_fill
 
     cpu = time.process_time()
     accel = np.asarray(task["accel"])
-    storeys = task["values"]["storeys"]
 
     def one(im):
         found = demands.run_demands(task["values"], (im / task["im_record"]) * accel, task["dt"], task["period"],
                                     task["step"], path, task["record"])
-        return bool(found["collapsed"]), max(found[f"PID-{k}"] for k in range(1, storeys + 1))
+        return bool(found["collapsed"]), found
 
     spec = task["ida"]
     trace = hunt_and_fill(one, spec["first"], spec["step"], spec.get("increment"), spec["tolerance"], spec["max_runs"])
     return {"key": task["key"], "record": task["record"], "record_index": task["record_index"],
-            "configuration": task["configuration"], "capacity": trace.capacity if trace.collapsed else math.nan,
+            "configuration": task["configuration"], "im_record": task["im_record"], "capacity": trace.capacity if trace.collapsed else math.nan,
             "lo": trace.lo, "hi": trace.hi if trace.collapsed else math.nan, "runs": json.dumps(trace.runs),
             "cpu_s": time.process_time() - cpu}
+
+
+def steps(task):
+    """A task's communication steps per run (its expected cost, runner.run_table)."""
+    return len(task["accel"]) * task["dt"] / (task["step"] or task["dt"])
 
 
 def run_ida(study, out, engine="fmu", workers=None, dask=False, scheduler=None, fmu=None, progress=True):
@@ -512,29 +546,84 @@ def run_ida(study, out, engine="fmu", workers=None, dask=False, scheduler=None, 
     table = Table(Path(out) / "ida.csv", list(IDA_COLUMNS))
     path = str(find_fmu(fmu, storeys=study.storeys))
     run_table(run_ida_task, todo, [t["key"] for t in todo], table, engine, path, workers, dask, scheduler, progress,
-              "ida")
+              "ida", steps)
     rows = []
     for t in todo:
         row = dict(table.done[t["key"]])
         row["record_index"] = int(float(row["record_index"]))
-        for key in ("capacity", "lo", "hi", "cpu_s"):
+        for key in ("im_record", "capacity", "lo", "hi", "cpu_s"):
             row[key] = float(row[key]) if row[key] not in ("", None) else math.nan
         row["runs"] = json.loads(row["runs"]) if isinstance(row["runs"], str) else row["runs"]
         rows.append(row)
     return rows
 
 
-def ida_collapse(study, traces):
-    """{configuration: loss_study.Collapse} from the IDA capacities (censored where none collapsed)."""
+def stripe_rows(study, traces):
+    """The stripes' rows (as run_task writes them) from the IDA traces (ida.at_level): each record at
+    each level scaled by its own intensity (factor = level / its intensity), its demands interpolated
+    on its IDA curve; `interpolated` 0 where a run was at the level; cpu_s nan (no run of its own)."""
+    from .ida import Trace, at_level
+
+    by_key = {(r["record_index"], r["configuration"]): r for r in traces}
+    out = []
+    for index, record in enumerate(study.records):
+        meta = {key: record.meta.get(key, "") for key in RECORD_META}
+        for level in study.levels:
+            for conf in study.configurations:
+                r = by_key[index, conf]
+                trace = Trace([tuple(run) for run in r["runs"]], r["lo"], r["hi"] if np.isfinite(r["hi"]) else None)
+                found = at_level(trace, level)
+                if found is None:
+                    raise StudyError(study.source, "ida", study.ida, f"record {record.name} ({conf}) traced up to "
+                                     f"{trace.lo:g} {study.unit} only, below the stripe {level:g}: a hunt that climbs "
+                                     "past the top stripe")
+                found, _, exact = found
+                out.append({"key": f"{r['key']}@{level:g}", "record": record.name, "record_index": index,
+                            "level": level, "im_record": r["im_record"], "factor": level / r["im_record"],
+                            "configuration": conf, **found, **_largest(found, study.storeys), "cpu_s": math.nan,
+                            "interpolated": int(not exact), **meta})
+    return out
+
+
+def ida_collapse(study, traces, collective=False):
+    """{configuration: loss_study.Collapse} from the IDA capacities (censored where none collapsed), in
+    each record's own intensity; `collective`: in the intensity of the set scaled collectively (FEMA
+    P-695 6.2.2: a record scaled with the set by L / median(IM) collapses at L = its capacity x
+    median(IM) / its IM), FEMA P-695's S_CT."""
     from .loss_study import Collapse
 
     out = {}
+    median = np.median([r["im_record"] for r in traces])
     for conf in study.configurations:
         mine = sorted((r for r in traces if r["configuration"] == conf), key=lambda r: r["record_index"])
-        capacities = np.array([r["capacity"] for r in mine])
-        censored = np.array([r["lo"] if not np.isfinite(r["capacity"]) else np.nan for r in mine])
+        scale = np.array([median / r["im_record"] if collective else 1.0 for r in mine])
+        capacities = np.array([r["capacity"] for r in mine]) * scale
+        censored = np.array([r["lo"] if not np.isfinite(r["capacity"]) else np.nan for r in mine]) * scale
         out[conf] = Collapse(study.levels, None, study.beta_m, capacities, censored)
     return out
+
+
+def ida_lines(study, traces, wall):
+    """The page's IDA section."""
+    runs = sum(len(r["runs"]) for r in traces)
+    spec = study.ida
+    how = (f"The stripes' demands below are interpolated on these curves (ida.at_level: each demand linear in "
+           f"intensity between the record's runs around the stripe, from (0, 0); at or above the record's collapse "
+           f"intensity its collapsing run's); {_exact_count(study, traces)} of the "
+           f"{len(traces) * len(study.levels)} record-stripe pairs fall on a run's intensity."
+           if spec["stripes"] == "interpolate" else "The stripes below are separate runs.")
+    return ["", "## Incremental dynamic analysis to collapse", "",
+            f"Hunt and fill per record and configuration (Vamvatsikos & Cornell 2002; first {spec['first']:g}, step "
+            f"{spec['step']:g} {study.unit} growing by {spec.get('increment', spec['step'] / 2):g} a run, tolerance "
+            f"{spec['tolerance']:g} of the bracket, at most {spec['max_runs']} runs): {runs} runs, {wall:.0f} s wall, "
+            "each stopped at collapse; each record scaled by its own intensity; the collapse fragility below "
+            "(P-695 and losses) is the lognormal fit of the records' collapse intensities (bracket midpoints), "
+            "records that never collapsed censored (`ida.csv`, every run's demands in its `runs` column). " + how, "",
+            "![IDA to collapse](ida-collapse.png)"]
+
+
+def _exact_count(study, traces):
+    return sum(1 for r in traces for level in study.levels if any(run[0] == level for run in r["runs"]))
 
 
 def plot_ida_traces(study, traces, path):
@@ -546,7 +635,7 @@ def plot_ida_traces(study, traces, path):
     fig, axes = _panels(plt, len(confs))
     for ax, conf in zip(axes, confs):
         for r in (r for r in traces if r["configuration"] == conf):
-            standing = sorted((im, d) for im, c, d in r["runs"] if not c)
+            standing = sorted((im, _largest(d, study.storeys)["drift_ratio"]) for im, c, d in r["runs"] if not c)
             if standing:
                 ims, drifts = zip(*standing)
                 ax.plot(100 * np.array(drifts), ims, color="0.6", lw=0.8, marker=".", ms=3)
@@ -572,7 +661,7 @@ def run_study(study, out, engine="fmu", workers=None, dask=False, scheduler=None
     table = Table(Path(out) / "runs.csv", columns)
     path = str(find_fmu(fmu, storeys=study.storeys)) if engine == "fmu" else None
     run_table(run_task, todo_all, [t["key"] for t in todo_all], table, engine, path, workers, dask, scheduler,
-              progress, "assess")
+              progress, "assess", steps)
     return [_typed(table.done[t["key"]]) for t in todo_all]
 
 
@@ -769,12 +858,34 @@ NO_FIT = {"none": "no run reached it", "all": "every run reached it at every str
           "single_level": "all runs at one level", "decreasing": "exceedance does not rise with intensity"}
 
 
-def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), stages=(), intervals=None):
+def _scaling_text(study, traces):
+    if traces is not None and study.ida["stripes"] == "interpolate":
+        return "each record scaled by its own intensity to each level (its demands there read off its IDA curve)"
+    if "set" in study.suite:
+        return "the set scaled collectively (FEMA P-695 6.2.2: its median intensity brought to each level)"
+    return "each record scaled by its own intensity to each level"
+
+
+def _runs_text(study, rows, traces):
+    """What was run, and its CPU per run."""
+    confs = len(study.configurations)
+    if traces is not None and study.ida["stripes"] == "interpolate":
+        runs = sum(len(r["runs"]) for r in traces)
+        cpu = np.array([r["cpu_s"] for r in traces]) / np.array([len(r["runs"]) for r in traces])
+        return (f"{runs} runs (IDA of {len(study.records)} records x {confs} configurations; the {len(rows)} stripe "
+                f"demands interpolated on the IDA curves), {cpu.mean():.2f} s CPU per run (median per record "
+                f"{np.median(cpu):.2f} s)")
+    cpu = np.array([r["cpu_s"] for r in rows])
+    return (f"{len(rows)} runs ({len(study.records)} records x {len(study.levels)} levels x {confs} "
+            f"configurations), {cpu.mean():.2f} s CPU per run (median {np.median(cpu):.2f} s)")
+
+
+def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), stages=(), intervals=None,
+               traces=None):
     out = Path(out)
     plot_ida(study, rows, out / "ida.png")
     plot_fragility(study, fits, out / "fragility.png")
     confs = list(study.configurations)
-    cpu = np.array([r["cpu_s"] for r in rows])
     hazard = study.hazard
     hazard_text = (f"the table {hazard['table']}" if "table" in hazard else
                    f"the power law lambda(IM) = k0 IM^-k with k0 = {hazard['k0']:.4g}, k = {hazard['k']:g} "
@@ -782,15 +893,12 @@ def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), 
     lines = [f"# Assessment: {study.name}", "", study.description, "",
              *(["**What this study is and is not.** " + study.scope, ""] if study.scope else []),
              f"Written by `{command}` on {platform.machine()} ({cpu_model()}), Python {platform.python_version()}: "
-             f"{len(rows)} runs ({len(study.records)} records x {len(study.levels)} levels x {len(confs)} "
-             f"configurations), {wall:.0f} s wall on {workers} worker(s), {cpu.mean():.2f} s CPU per run "
-             f"(median {np.median(cpu):.2f} s)." + (" The cost on 1 and 2 workers and its extrapolation to larger "
-             "studies: `python -m pidamper.benchmarks.assess_scaling` writes [scaling.md](scaling.md) beside the "
-             "shipped study's page." if (out / "scaling.md").exists() else "")
+             f"{_runs_text(study, rows, traces)}, {wall:.0f} s wall on {workers} worker(s)." + (" Its cost on 1 and 2 workers and the extrapolation to more: "
+             "[scaling.md](scaling.md) (it names the command that wrote it)." if (out / "scaling.md").exists() else "")
              + (" Wall time by stage: " + ", ".join(f"{name} {sec:.0f} s" for name, sec in stages) + "."
                 if stages else ""), "",
-             f"Intensity: {study.label}, stripes {', '.join(f'{v:g}' for v in study.levels)}; records scaled to "
-             "each level. Demand: peak inter-storey drift ratio, the building FMU's exact running maximum "
+             f"Intensity: {study.label}, stripes {', '.join(f'{v:g}' for v in study.levels)}; " + _scaling_text(study, traces)
+             + ". Demand: peak inter-storey drift ratio, the building FMU's exact running maximum "
              "(located between the communication points; the pendulum primary's over them) (storey "
              f"heights {', '.join(f'{h:g}' for h in study.heights)} m). Damage states: "
              + ", ".join(f"{k} at {v:g}" for k, v in study.damage_states.items()) + ".", "",
@@ -832,10 +940,21 @@ def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), 
     (out / "README.md").write_text("\n".join(lines))
 
 
-def assess_losses(study, rows, out, collapse=None):
-    """The [losses] part (loss_study): per configuration its StripeLosses, every realization in
-    OUT/losses.parquet, the annual figures with paired-bootstrap intervals, the EAL ratio under the
-    hazard's slope varied; the page's lines."""
+def configuration_losses(study, rows, conf, collapse):
+    """(loss_study.StripeLosses, its realizations per stripe as frames) of one configuration."""
+    from . import loss_study
+
+    frames = []
+    sink = lambda level, frame: frames.append(frame.assign(configuration=conf, level=level))  # noqa: E731
+    found = loss_study.stripe_losses(study, rows, conf, study.losses["model"], study.losses["realizations"],
+                                     study.seed, sink, collapse)
+    return found, frames
+
+
+def assess_losses(study, rows, out, collapse=None, workers=1):
+    """The [losses] part (loss_study): per configuration its StripeLosses (the configurations on up to
+    `workers` processes), every realization in OUT/losses.parquet, the annual figures with
+    paired-bootstrap intervals, the EAL ratio under the hazard's slope varied; the page's lines."""
     import pandas as pd
 
     from . import loss_study
@@ -843,12 +962,16 @@ def assess_losses(study, rows, out, collapse=None):
     if any(not np.isfinite(r.get("collapsed", math.nan)) for r in rows):
         raise StudyError(study.source, "losses", "", "runs of a building through the FMU (engine fmu, storeys >= 1): "
                          "the demands per storey and floor come from it")
-    frames, per_conf = [], {}
-    for conf in study.configurations:
-        sink = lambda level, frame, conf=conf: frames.append(frame.assign(configuration=conf, level=level))  # noqa
-        per_conf[conf] = loss_study.stripe_losses(study, rows, conf, study.losses["model"],
-                                                  study.losses["realizations"], study.seed, sink,
-                                                  collapse[conf] if collapse else None)
+    confs = list(study.configurations)
+    args = [(study, rows, c, collapse[c] if collapse else None) for c in confs]
+    if min(workers or 1, len(confs)) > 1:
+        from concurrent.futures import ProcessPoolExecutor
+        with ProcessPoolExecutor(max_workers=min(workers, len(confs))) as pool:
+            found = list(pool.map(configuration_losses, *zip(*args)))
+    else:
+        found = [configuration_losses(*a) for a in args]
+    per_conf = {c: f[0] for c, f in zip(confs, found)}
+    frames = [frame for _, parts in found for frame in parts]
     table = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
     table.to_parquet(Path(out) / "losses.parquet")
     values, ratios = loss_study.compare(study, per_conf, hazard_rate(study))
@@ -891,6 +1014,10 @@ def p695_lines(study, rows, out, collapse=None):
     from .loss_study import Collapse
     collapse = collapse or {c: Collapse(levels, collapsed[c], study.beta_m) for c in confs}
     median = lambda conf, drawn: collapse[conf].fit(drawn).theta  # noqa: E731
+    if any(collapse[c].capacities is not None for c in confs) and "set" in study.suite:
+        lines[-3:-3] = ["S_CT: the median of the records' IDA collapse intensities in the intensity of the set "
+                        "scaled collectively (FEMA P-695 6.2.2: a record scaled with the set collapses at its own "
+                        "capacity x median(Sa) / its Sa), the lognormal fit with censoring.", ""]
     for c in confs:
         count = f"{int(collapsed[c].sum())} of {collapsed[c].size} stripe runs"
         if collapse[c].capacities is not None:
@@ -1041,40 +1168,40 @@ def assess(study_path, out="assessment", engine="fmu", workers=None, dask=False,
     study = load(study_path)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    t0 = time.perf_counter()
-    rows = run_study(study, out, engine, workers, dask, scheduler, fmu, progress)
-    wall = time.perf_counter() - t0
-    stages = [("runs", wall)]
+    stages, extra, collapse, traces, margin_collapse = [], [], None, None, None
+    if study.ida:  # first: its curves may give the stripes
+        t0 = time.perf_counter()
+        traces = run_ida(study, out, engine, workers, dask, scheduler, fmu, progress)
+        stages.append(("IDA runs", time.perf_counter() - t0))
+        collapse = ida_collapse(study, traces)
+        margin_collapse = ida_collapse(study, traces, collective="set" in study.suite)
+        plot_ida_traces(study, traces, out / "ida-collapse.png")
+        extra += ida_lines(study, traces, stages[-1][1])
+    if study.ida.get("stripes") == "interpolate":
+        rows = stripe_rows(study, traces)
+    else:
+        t0 = time.perf_counter()
+        rows = run_study(study, out, engine, workers, dask, scheduler, fmu, progress)
+        stages.append(("stripe runs", time.perf_counter() - t0))
+    wall = sum(sec for _, sec in stages)
     write_parquet(rows, out / "runs.parquet")
     t0 = time.perf_counter()
     fits, risks = analyse(study, rows)
     intervals = risk_intervals(study, fits)
     stages.append(("damage-state fits", time.perf_counter() - t0))
     command = command or "pidamper assess " + " ".join(shlex.quote(a) for a in [str(study_path), "--out", str(out)])
-    extra, collapse = [], None
-    if study.ida:
-        t0 = time.perf_counter()
-        traces = run_ida(study, out, engine, workers, dask, scheduler, fmu, progress)
-        collapse = ida_collapse(study, traces)
-        plot_ida_traces(study, traces, out / "ida-collapse.png")
-        runs = sum(len(r["runs"]) for r in traces)
-        extra += ["", "## Incremental dynamic analysis to collapse", "",
-                  f"Hunt and fill per record and configuration (first {study.ida['first']:g}, step "
-                  f"{study.ida['step']:g} {study.unit}, tolerance {study.ida['tolerance']:g}, at most "
-                  f"{study.ida['max_runs']} runs): {runs} runs, {time.perf_counter() - t0:.0f} s wall; each record "
-                  "scaled by its own intensity; the collapse fragility below (P-695 and losses) is the lognormal fit "
-                  "of the records' collapse intensities (bracket midpoints), records that never collapsed censored "
-                  "(`ida.csv`).", "", "![IDA to collapse](ida-collapse.png)"]
-        stages.append(("IDA", time.perf_counter() - t0))
-    for name, part, wanted in (("collapse margin", p695_lines, study.p695), ("losses", assess_losses, study.losses)):
+    losses = functools.partial(assess_losses, workers=workers or os.cpu_count())
+    for name, part, wanted, given in (("collapse margin", p695_lines, study.p695, margin_collapse),
+                                      ("losses", losses, study.losses, collapse)):
         if wanted:
             t0 = time.perf_counter()
-            extra += part(study, rows, out, collapse)
+            extra += part(study, rows, out, given)
             stages.append((name, time.perf_counter() - t0))
     t0 = time.perf_counter()
-    write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, (), intervals)
+    write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, (), intervals, traces)
     stages.append(("page", time.perf_counter() - t0))
-    write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, stages, intervals)
+    write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, stages, intervals,
+               traces)
     return rows, fits, risks
 
 

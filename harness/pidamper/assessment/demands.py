@@ -46,19 +46,85 @@ def with_tail(accel, dt, period):
 def run_demands(values, accel, dt, period, step=None, fmu=None, record="record"):
     """Run one scaled record (ground acceleration samples [m/s2] at interval dt [s]) and its tail
     through the building FMU; the demands (module doc) as a dict, with `collapsed` (0/1) and
-    `t_end` (the time the run ended [s])."""
-    from ..forcing import Forcing
-    from ..running.simulation import run
+    `t_end` (the time the run ended [s]).
+
+    The FMU is stepped as pidamper.run has fmpy.simulate_fmu step it (communication points k h, the
+    input the record interpolated there (its sample when h = dt) held over the step, the run ended after the step whose `collapsed`
+    output turned 1), but only the few outputs the demands need are read at each step: the same
+    demands as demands_of(run(...).data) to the last bit (tests/test_demands.py), at a fraction of the
+    host's cost.  A refused FMI call raises simulation.FmuError with what the model logged."""
+    from fmpy.fmi1 import FMICallException
+
+    from ..running.fmu import find_fmu
+    from ..running.instance import FmuInstance
+    from ..running.simulation import FmuError, FmuMessages
+    from ..running.variants import for_model, storeys_of
 
     storeys = values["storeys"]
     times, ground = with_tail(accel, dt, period)
-    signal = Forcing("record", {"record": record}, table=(times, ground), target="a_g")
     h = step or dt
-    stop = int(round(times[-1] / h)) * h
-    slots = [f"impact[{k}].v_rel_before" for k in range(1, SLOTS + 1)] + ["impacts_in_step", "impacts_unrecorded"]
-    result = run(values, signal, stop_time=stop, output_interval=h, fmu=fmu, extra_outputs=slots)
-    return demands_of(result.data, storeys, [values.get(f"storey[{k}].h") for k in range(1, storeys + 1)],
-                      float(np.abs(accel).max()), period, h, "collapsed" in result.meta)
+    n = int(round(times[-1] / h))
+    inputs = np.interp(h * np.arange(n + 1), times, ground).tolist()  # as pidamper.run samples a table
+    path = str(find_fmu(fmu, storeys=storeys_of(values)))
+    import fmpy
+    model_values = for_model(fmpy.read_model_description(path).modelName, dict(values))
+    messages = FmuMessages()
+    logger = lambda status, text: messages(None, None, status, None, text)  # noqa: E731
+    try:
+        with FmuInstance(path, {**model_values, "a_g": inputs[0]}, logger=logger) as fmu:
+            return _stepped(fmu, inputs, h, storeys, period, float(np.abs(accel).max()), values)
+    except FMICallException as err:
+        raise FmuError(f"{messages.text() or '(the model logged nothing)'} [{err}]", None) from err
+
+
+def _stepped(fmu, inputs, h, storeys, period, pga, values):
+    """Step `fmu` (an initialised FmuInstance) through `inputs` (a_g at the communication points);
+    the demands (see run_demands)."""
+    slave = fmu.fmu
+    set_real, do_step, get_real, get_integer = slave.setReal, slave.doStep, slave.getReal, slave.getInteger
+    ag, z_vr = fmu.vr("a_g"), fmu.vr("z")
+    watch = fmu.vr("collapsed", "impacts_in_step")
+    slots = fmu.vr(*(f"impact[{k}].v_rel_before" for k in range(1, SLOTS + 1)))
+    drifts = fmu.vr(*(f"storey[{k}].drift" for k in range(1, storeys + 1)))
+    n = len(inputs) - 1
+    last = n * h
+    tail_from = last - period - 0.5 * h  # the rows of the tail's last period (as demands_of takes them)
+    collapsed, stroke, speed = False, abs(fmu.get("z")), 0.0
+    tail = [get_real(drifts)] if 0.0 >= tail_from else []
+    t = 0.0
+    for k in range(n):
+        nxt = (k + 1) * h
+        set_real(ag, [inputs[k]])
+        do_step(currentCommunicationPoint=t, communicationStepSize=nxt - t)
+        t = nxt
+        flag, in_step = get_integer(watch)
+        stroke = max(stroke, abs(get_real(z_vr)[0]))
+        if in_step:
+            speed = max([speed] + [abs(v) for v in get_real(slots[:min(in_step, SLOTS)])])
+        if t >= tail_from:
+            tail.append(get_real(drifts))
+        if flag:
+            collapsed = True
+            break
+    names = ([f"storey[{k}].{q}" for q in ("drift_ratio_max", "drift", "drift_ratio") for k in range(1, storeys + 1)]
+             + [f"floor[{k}].{q}" for q in ("a_abs_max", "v_abs_max") for k in range(1, storeys + 1)])
+    end = dict(zip(names, get_real(fmu.vr(*names))))
+    impacts, unrecorded = get_integer(fmu.vr("impacts", "impacts_unrecorded"))
+    out = {"collapsed": int(collapsed), "t_end": t}
+    columns = list(zip(*tail)) if tail else [[] for _ in range(storeys)]
+    for k in range(1, storeys + 1):
+        out[f"PID-{k}"] = end[f"storey[{k}].drift_ratio_max"]
+        height = values.get(f"storey[{k}].h") or (end[f"storey[{k}].drift"] / end[f"storey[{k}].drift_ratio"]
+                                                   if end[f"storey[{k}].drift_ratio"] else math.nan)
+        out[f"RID-{k}"] = math.nan if collapsed else abs(float(np.mean(np.array(columns[k - 1])))) / height
+    out["PFA-0"] = pga
+    for k in range(1, storeys + 1):
+        out[f"PFA-{k}"] = end[f"floor[{k}].a_abs_max"]
+    for k in range(1, storeys + 1):
+        out[f"PFV-{k}"] = end[f"floor[{k}].v_abs_max"]
+    out.update(stroke=float(stroke), impacts=int(impacts), v_impact_max=float(speed),
+               impacts_unrecorded=int(unrecorded))
+    return out
 
 
 def demands_of(data, storeys, heights, pga, period, h, collapsed):

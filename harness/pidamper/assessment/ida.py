@@ -82,3 +82,40 @@ def hunt_and_fill(run, first, step, increment=None, tolerance=0.05, max_runs=10)
             trace.hi = im
             trace.lo = max([x for x, c, _ in trace.runs if not c and x < im], default=0.0)
     return trace
+
+
+#: the numbers of a run's demands that are not interpolated: they say how the run ended
+NOT_INTERPOLATED = ("collapsed", "t_end")
+
+
+def at_level(trace, level):
+    """One record's demands at `level` from its IDA trace (runs (im, collapsed, demands dict)):
+    (demands, collapsed, exact).
+
+    At or above the collapse intensity (the bracket's midpoint) the demands of the record's lowest
+    collapsing run; below it each number of the demands linearly interpolated in intensity between
+    the two standing runs around the level, the curve starting at (0, 0) (every demand vanishes with
+    the intensity); between the highest standing run below the capacity and the capacity (at most
+    half the bracket, tolerance / 2 relative) that run's demands.  `exact`: a run was at the level.
+    None for a record that never collapsed and was not traced up to the level."""
+    capacity = trace.capacity
+    if capacity is not None and level >= capacity:
+        im, _, found = min((r for r in trace.runs if r[1]), key=lambda r: r[0])
+        return dict(found), True, im == level
+    standing = sorted((im, found) for im, c, found in trace.runs if not c and (capacity is None or im < capacity))
+    if not standing or level > standing[-1][0]:
+        if capacity is None or not standing:
+            return None
+        return dict(standing[-1][1]), False, False
+    upper = next(k for k, (im, _) in enumerate(standing) if im >= level)
+    im_b, b = standing[upper]
+    if im_b == level:
+        return dict(b), False, True
+    im_a, a = standing[upper - 1] if upper else (0.0, None)
+    w = (level - im_a) / (im_b - im_a)
+    out = dict(b)
+    for key, value in b.items():
+        if key not in NOT_INTERPOLATED and isinstance(value, (int, float)) and not isinstance(value, bool):
+            start = 0.0 if a is None else a[key]
+            out[key] = float(start + w * (value - start))
+    return out, False, False

@@ -4,7 +4,10 @@ them (`pidamper assess --scheduler ADDRESS`, the FMU shipped to the workers once
 measured and extrapolated to the whole study on 8 and 32 workers; writes OUT/scaling.md.
 
     python -m pidamper.benchmarks.assess_dask [--study studies/yielding-three-storey.toml]
-        [--events 4] [--out docs/assessment-yielding]
+        [--events 4] [--out docs/assessment]
+
+A study whose stripes are read off its IDA curves ([ida] stripes = "interpolate") runs its IDA tasks
+(one per record and configuration, hunt and fill); any other its stripe tasks.
 """
 import argparse
 import json
@@ -67,21 +70,47 @@ class Cluster:
             process.wait(timeout=60)
 
 
+def from_ida(study):
+    return study.ida.get("stripes") == "interpolate"
+
+
+def run_cpu(study, out, scheduler):
+    """Run the study's tasks (its IDA, or its stripes) into OUT; the CPU of each run [s]."""
+    if from_ida(study):
+        traces = assess.run_ida(study, out, scheduler=scheduler, progress=False)
+        return [r["cpu_s"] / len(r["runs"]) for r in traces for _ in r["runs"]]
+    return [r["cpu_s"] for r in assess.run_study(study, out, scheduler=scheduler, progress=False)]
+
+
+def shipped_cpu(study, out):
+    """The CPU of each run of the shipped study's journal in OUT (ida.csv or runs.csv) [s]."""
+    import csv
+
+    journal = Path(out) / ("ida.csv" if from_ida(study) else "runs.csv")
+    if not journal.exists():
+        raise SystemExit(f"{journal} is missing: run the study first (pidamper assess {study.source} --out {out})")
+    with journal.open(newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    if from_ida(study):
+        return [float(r["cpu_s"]) / len(json.loads(r["runs"])) for r in rows for _ in json.loads(r["runs"])]
+    return [float(r["cpu_s"]) for r in rows]
+
+
 def timed(study, out, workers, folder):
     """(wall of the runs [s], CPU per run [s], runs) on a fresh cluster of `workers` Dask workers."""
     cluster = Cluster(workers, folder)
     try:
-        for name in ("runs.csv", "runs.parquet"):
+        for name in ("runs.csv", "runs.parquet", "ida.csv"):
             (Path(out) / name).unlink(missing_ok=True)
         t0 = time.perf_counter()
-        rows = assess.run_study(assess.load(study), out, scheduler=cluster.address, progress=False)
+        cpu = run_cpu(assess.load(study), out, cluster.address)
         wall = time.perf_counter() - t0
     finally:
         cluster.close()
-    return wall, float(np.mean([r["cpu_s"] for r in rows])), len(rows)
+    return wall, float(np.mean(cpu)), len(cpu)
 
 
-def report(study, events, subset_runs, whole_runs, whole_cpu, results):
+def report(study, events, subset_runs, whole_runs, whole_cpu, results, kind):
     (w1, c1, n), (w2, c2, _) = results[1], results[2]
     efficiency = w1 / (2 * w2)
     per_run = whole_cpu * (w1 / n) / c1  # the whole study's CPU per run, with the subset's wall / CPU
@@ -90,7 +119,7 @@ def report(study, events, subset_runs, whole_runs, whole_cpu, results):
     return f"""# Cost of the yielding study on a Dask scheduler
 
 The runs of `{study}` restricted to its first {events} FEMA P-695 events ({subset_runs} runs: both
-components x stripes x configurations) on a real Dask scheduler: a `dask scheduler` process and
+components x configurations x {kind}) on a real Dask scheduler: a `dask scheduler` process and
 `dask worker` processes (one thread each) on this machine, the FMU shipped to them once. Measured on
 {platform.machine()} ({cpu_model()}, {os.cpu_count()} cores), Python {platform.python_version()}, by
 `python -m pidamper.benchmarks.assess_dask` (this page is its output).
@@ -103,7 +132,7 @@ components x stripes x configurations) on a real Dask scheduler: a `dask schedul
 Parallel efficiency on 2 workers: {efficiency:.2f} (wall on 1 / (2 x wall on 2)).
 
 **Extrapolation (not measured beyond 2 workers).** The whole study has {whole_runs} runs of
-{whole_cpu:.2f} s CPU each on average (its `runs.csv`: its records are longer than the subset's, some
+{whole_cpu:.2f} s CPU each on average (its journal: its records are longer than the subset's, some
 sampled at 0.005 or 0.0025 s), so {per_run:.2f} s of wall per run on one worker (the subset's wall
 per CPU second); with the measured efficiency (assumed to hold on more workers, the FMU shipped once
 per worker):
@@ -121,20 +150,16 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m pidamper.benchmarks.assess_dask", description=__doc__)
     parser.add_argument("--study", default="studies/yielding-three-storey.toml")
     parser.add_argument("--events", type=int, default=4, help="FEMA P-695 events kept (2 components each)")
-    parser.add_argument("--out", default="docs/assessment-yielding", help="where scaling.md goes")
+    parser.add_argument("--out", default="docs/assessment", help="where scaling.md goes")
     args = parser.parse_args(argv)
     folder = Path(tempfile.mkdtemp(prefix="pidamper_dask_"))
     try:
         subset = subset_study(args.study, args.events, folder)
-        whole = len(assess.tasks(assess.load(args.study)))
-        shipped = Path(args.out) / "runs.csv"
-        if not shipped.exists():
-            raise SystemExit(f"{shipped} is missing: run the study first (pidamper assess {args.study} --out {args.out})")
-        import csv
-        with shipped.open(newline="") as handle:
-            whole_cpu = float(np.mean([float(r["cpu_s"]) for r in csv.DictReader(handle)]))
+        study = assess.load(args.study)
+        cpu = shipped_cpu(study, args.out)
+        kind = "the runs of each IDA (hunt and fill)" if from_ida(study) else "stripes"
         results = {n: timed(subset, folder / f"out{n}", n, folder) for n in (1, 2)}
-        text = report(args.study, args.events, results[1][2], whole, whole_cpu, results)
+        text = report(args.study, args.events, results[1][2], len(cpu), float(np.mean(cpu)), results, kind)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
     (Path(args.out) / "scaling.md").write_text(text)

@@ -1,8 +1,8 @@
 """Cost of an assessment: the shipped study run from scratch on 1 and on 2 local workers, the CPU per
 run, and the wall time a larger study would take on N workers.  The 2-worker run writes the study's
-page (docs/assessment/README.md and its figures); this module adds docs/assessment/scaling.md.
+page (docs/assessment-elastic/README.md and its figures); this module adds docs/assessment-elastic/scaling.md.
 
-    python -m pidamper.benchmarks.assess_scaling [--study studies/three-storey.toml] [--out docs/assessment]
+    python -m pidamper.benchmarks.assess_scaling [--study studies/three-storey.toml] [--out docs/assessment-elastic]
 """
 import argparse
 import os
@@ -76,7 +76,7 @@ communication step's inverse and the impacts per run.)
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m pidamper.benchmarks.assess_scaling", description=__doc__)
     parser.add_argument("--study", default="studies/three-storey.toml")
-    parser.add_argument("--out", default="docs/assessment", help="the 2-worker run's page folder")
+    parser.add_argument("--out", default="docs/assessment-elastic", help="the 2-worker run's page folder")
     args = parser.parse_args(argv)
     results = {}
     scratch = Path(tempfile.mkdtemp(prefix="pidamper_assess_"))

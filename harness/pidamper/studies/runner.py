@@ -42,12 +42,16 @@ class Table:
         self.handle.close()
 
 
-def run_table(task, todo_all, keys, table, engine, path, workers, dask, scheduler, progress, desc):
+def run_table(task, todo_all, keys, table, engine, path, workers, dask, scheduler, progress, desc, cost=None):
     """Run task(point, engine, path) for every point whose key is not in `table` yet, adding each
-    row as it finishes (the resume record), with a progress bar on a terminal; closes the table."""
+    row as it finishes (the resume record), with a progress bar on a terminal; closes the table.
+    `cost(point)`: its expected cost; the costliest are sent first (longest processing time first:
+    the workers do not wait at the end on one long task started last)."""
     from tqdm import tqdm
 
     todo = [p for p, k in zip(todo_all, keys) if k not in table.done]
+    if cost is not None:
+        todo.sort(key=cost, reverse=True)
     bar = tqdm(total=len(todo_all), initial=len(todo_all) - len(todo), disable=None if progress else True,
                desc=desc, unit="run", file=sys.stderr)
     try:
