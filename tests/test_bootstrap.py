@@ -57,21 +57,21 @@ def test_bad_arguments_are_named():
 
 
 def test_the_damage_state_ratios_are_paired_over_the_same_records():
-    """assess.risk_intervals: two configurations with the same exceedances give ratio 1 on every
+    """analysis.risk_intervals: two configurations with the same exceedances give ratio 1 on every
     draw (a zero-width interval: the draws are paired; unpaired ones would spread); a configuration
     whose capacities are 1.3 times larger has its median ratio's point at the ratio of the fits."""
     from types import SimpleNamespace
 
-    from pidamper.assessment import assess, fragility
+    from pidamper.assessment import analysis, fragility
 
     rng = np.random.default_rng(5)
     levels = np.geomspace(0.2, 3.0, 8)
     capacity = np.exp(np.log(0.8) + 0.4 * rng.standard_normal(30))
     exceed = {"a": capacity[:, None] <= levels, "b": capacity[:, None] <= levels, "c": 1.3 * capacity[:, None] <= levels}
-    fits = {c: {"DS": assess.StateFit(e, fragility.fit_records(levels, e))} for c, e in exceed.items()}
+    fits = {c: {"DS": analysis.StateFit(e, fragility.fit_records(levels, e))} for c, e in exceed.items()}
     study = SimpleNamespace(levels=list(levels), configurations={"a": {}, "b": {}, "c": {}}, damage_states={"DS": 0.01},
                             records=[None] * 30, bootstrap=30, seed=0, hazard={"k0": 1e-3, "k": 2.5})
-    found = assess.risk_intervals(study, fits)["DS"]
+    found = analysis.risk_intervals(study, fits)["DS"]
     same_median, same_maf = found["b"]
     assert same_median.lo == same_median.hi == same_median.point == 1.0 and same_maf.lo == same_maf.hi == 1.0
     median, maf = found["c"]

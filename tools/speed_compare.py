@@ -27,6 +27,10 @@ CASES = {
                                      "(0.0, 0.0, 0.0, 0.0), 0.0",
     "10-storey building with damper": "dict(storeys=10, fidelity=1, zeta_s=0.02, mu=0.03, FR=1.0, d=0.04), "
                                       "(0.0, 0.0, 0.0, 0.0), 0.0",
+    "3-storey yielding building with damper": "dict(storeys=3, floor_m=[1e5] * 3, storey_k=[8e7] * 3, fidelity=1, "
+                                              "zeta_s=0.02, p_delta=1, storey_Fy=[8e5, 7e5, 5e5], "
+                                              "storey_b=[0.02] * 3, mu=0.05, FR=0.95, d=0.02, e=0.5), "
+                                              "(0.0, 0.0, 0.0, 0.0), 0.0",
 }
 
 RUNNER = """

@@ -54,7 +54,6 @@ import hashlib
 import json
 import math
 import os
-import platform
 import shlex
 import sys
 import time
@@ -66,10 +65,11 @@ import numpy as np
 from pidamper_physics import Params
 
 from . import demands, fragility
+from .analysis import analyse, demand_matrix, hazard_rate, risk_intervals
+from .page import NO_FIT, ida_lines, loss_lines, plot_ida_traces, plot_pushover, plot_repair_complete, write_page
 from ..forcing import ground_motion, spectra
 from ..errors import FieldError
 from ..forcing import Forcing
-from ..machine import cpu_model
 from ..scenes.scene import FIDELITY, fmu_values
 from ..studies.runner import Table, add_runner_arguments, run_table
 
@@ -452,7 +452,7 @@ def run_task(task, engine="fmu", path=None):
     if engine == "fmu" and storeys:  # the building FMU's exact running maxima, a tail for the residual drift
         found = demands.run_demands(task["values"], accel, task["dt"], task["period"], task["step"], path,
                                     task["record"])
-        row.update(found, **_largest(found, storeys), cpu_s=time.process_time() - cpu)
+        row.update(found, **demands.largest(found, storeys), cpu_s=time.process_time() - cpu)
         return row
     if engine == "fmu":
         data = run(task["values"], signal, stop_time=n * h, output_interval=h, fmu=path).data
@@ -481,13 +481,6 @@ def run_task(task, engine="fmu", path=None):
                floor_accel=float(accel), stroke=stroke, impacts=impacts,
                cpu_s=time.process_time() - cpu)
     return row
-
-
-def _largest(found, storeys):
-    """The run's largest storey drift ratio, its storey (1..N) and the largest floor acceleration."""
-    ratio = np.array([found[f"PID-{k}"] for k in range(1, storeys + 1)])
-    return {"drift_ratio": float(ratio.max()), "drift_storey": int(ratio.argmax()) + 1,
-            "floor_accel": float(max(found[f"PFA-{k}"] for k in range(1, storeys + 1)))}
 
 
 IDA_COLUMNS = ("key", "record", "record_index", "configuration", "im_record", "capacity", "lo", "hi", "runs", "cpu_s")
@@ -580,7 +573,7 @@ def stripe_rows(study, traces):
                 found, _, exact = found
                 out.append({"key": f"{r['key']}@{level:g}", "record": record.name, "record_index": index,
                             "level": level, "im_record": r["im_record"], "factor": level / r["im_record"],
-                            "configuration": conf, **found, **_largest(found, study.storeys), "cpu_s": math.nan,
+                            "configuration": conf, **found, **demands.largest(found, study.storeys), "cpu_s": math.nan,
                             "interpolated": int(not exact), **meta})
     return out
 
@@ -601,54 +594,6 @@ def ida_collapse(study, traces, collective=False):
         censored = np.array([r["lo"] if not np.isfinite(r["capacity"]) else np.nan for r in mine]) * scale
         out[conf] = Collapse(study.levels, None, study.beta_m, capacities, censored)
     return out
-
-
-def ida_lines(study, traces, wall):
-    """The page's IDA section."""
-    runs = sum(len(r["runs"]) for r in traces)
-    spec = study.ida
-    how = (f"The stripes' demands below are interpolated on these curves (ida.at_level: each demand linear in "
-           f"intensity between the record's runs around the stripe, from (0, 0); at or above the record's collapse "
-           f"intensity its collapsing run's); {_exact_count(study, traces)} of the "
-           f"{len(traces) * len(study.levels)} record-stripe pairs fall on a run's intensity."
-           if spec["stripes"] == "interpolate" else "The stripes below are separate runs.")
-    return ["", "## Incremental dynamic analysis to collapse", "",
-            f"Hunt and fill per record and configuration (Vamvatsikos & Cornell 2002; first {spec['first']:g}, step "
-            f"{spec['step']:g} {study.unit} growing by {spec.get('increment', spec['step'] / 2):g} a run, tolerance "
-            f"{spec['tolerance']:g} of the bracket, at most {spec['max_runs']} runs): {runs} runs, {wall:.0f} s wall, "
-            "each stopped at collapse; each record scaled by its own intensity; the collapse fragility below "
-            "(P-695 and losses) is the lognormal fit of the records' collapse intensities (bracket midpoints), "
-            "records that never collapsed censored (`ida.csv`, every run's demands in its `runs` column). " + how, "",
-            "![IDA to collapse](ida-collapse.png)"]
-
-
-def _exact_count(study, traces):
-    return sum(1 for r in traces for level in study.levels if any(run[0] == level for run in r["runs"]))
-
-
-def plot_ida_traces(study, traces, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    confs = list(study.configurations)
-    fig, axes = _panels(plt, len(confs))
-    for ax, conf in zip(axes, confs):
-        for r in (r for r in traces if r["configuration"] == conf):
-            standing = sorted((im, _largest(d, study.storeys)["drift_ratio"]) for im, c, d in r["runs"] if not c)
-            if standing:
-                ims, drifts = zip(*standing)
-                ax.plot(100 * np.array(drifts), ims, color="0.6", lw=0.8, marker=".", ms=3)
-            if np.isfinite(r["capacity"]):
-                ax.plot(100 * study.building.get("collapse_drift", 0.10), r["capacity"], "x", color="C3", ms=4)
-        ax.set_title(f"{conf}: IDA per record (x: collapse)")
-        ax.set_xlabel("peak inter-storey drift ratio [%]")
-        ax.grid(alpha=0.3)
-    axes[0].set_ylabel(study.label)
-    fig.suptitle("Incremental dynamic analysis to collapse (hunt and fill, Vamvatsikos & Cornell 2002)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 def run_study(study, out, engine="fmu", workers=None, dask=False, scheduler=None, fmu=None, progress=True):
@@ -689,255 +634,6 @@ def write_parquet(rows, path):
 
     columns = list(rows[0])
     pq.write_table(pa.table({c: [r[c] for r in rows] for c in columns}), path)
-
-
-# ---- analysis ------------------------------------------------------------------------------
-
-def demand_matrix(study, rows, configuration, demand="drift_ratio"):
-    """records x levels array of a demand in one configuration."""
-    out = np.full((len(study.records), len(study.levels)), np.nan)
-    level_index = {v: j for j, v in enumerate(study.levels)}
-    for row in rows:
-        if row["configuration"] == configuration:
-            out[row["record_index"], level_index[row["level"]]] = row[demand]
-    return out
-
-
-@dataclass
-class StateFit:
-    """One damage state in one configuration: the fit and its bootstrap band, or why there is none
-    (fragility.FragilityError.kind: 'none' when no run reached the state, 'all' when every run did...)."""
-    exceed: np.ndarray  # records x levels
-    fit: object = None
-    band: object = None
-    failed: str = ""
-
-
-def analyse(study, rows):
-    """{configuration: {state: StateFit}} and the risk table rows."""
-    levels = np.asarray(study.levels)
-    fits = {}
-    for conf in study.configurations:
-        drift = demand_matrix(study, rows, conf)
-        fits[conf] = {}
-        for state, limit in study.damage_states.items():
-            exceed = drift >= limit
-            try:
-                fit = fragility.fit_records(levels, exceed)
-                band = fragility.bootstrap(levels, exceed, n=study.bootstrap, seed=study.seed)
-                fits[conf][state] = StateFit(exceed, fit, band)
-            except fragility.FragilityError as err:
-                fits[conf][state] = StateFit(exceed, failed=err.kind)
-    return fits, risk(study, fits)
-
-
-def risk_intervals(study, fits):
-    """{state: {configuration: [Interval of the median ratio, Interval of the MAF ratio]}} to the
-    first configuration: the paired bootstrap over records (bootstrap.paired), both fits redone on
-    each draw; {} for a state whose fits failed."""
-    from . import bootstrap
-
-    levels = np.asarray(study.levels)
-    confs = list(study.configurations)
-    maf = _maf(study)
-    out = {}
-    for state in study.damage_states:
-        if any(fits[c][state].fit is None for c in confs) or len(confs) < 2:
-            out[state] = {}
-            continue
-
-        def statistic(rows, state=state):
-            found = [fragility.fit_records(levels, fits[c][state].exceed[rows]) for c in confs]
-            return [x for f in found[1:] for x in (f.theta / found[0].theta, maf(f) / maf(found[0]))]
-
-        found = bootstrap.paired(statistic, len(study.records), n=study.bootstrap, seed=study.seed)
-        out[state] = {c: found[2 * i:2 * i + 2] for i, c in enumerate(confs[1:])}
-    return out
-
-
-def _maf(study):
-    hazard = study.hazard
-    if "table" in hazard:
-        table = np.genfromtxt(study.folder / hazard["table"], delimiter=",", names=True)
-        return lambda fit: fragility.maf_table(fit, table["im"], table["rate"])
-    return lambda fit: fragility.maf_power_law(fit, hazard["k0"], hazard["k"])
-
-
-def hazard_rate(study, slope=1.0):
-    """lambda(x) [1/yr] of the study's hazard; slope scales the power law's k about its upper
-    point (the sensitivity row: the rate at the higher of two cited points kept)."""
-    hazard = study.hazard
-    if "table" in hazard:
-        table = np.genfromtxt(study.folder / hazard["table"], delimiter=",", names=True)
-        lx, lr = np.log(table["im"]), np.log(table["rate"])
-        return lambda x: np.exp(np.interp(np.log(x), lx, lr, left=lr[0], right=-np.inf))
-    k0, k = hazard["k0"], hazard["k"]
-    if slope != 1.0:
-        x_ref = max(p[0] for p in hazard.get("points", [[1.0, 0]]))
-        k0, k = k0 * x_ref ** (k * slope - k), k * slope
-    return lambda x: k0 * np.asarray(x, dtype=float) ** (-k)
-
-
-def risk(study, fits):
-    """Rows (state, MAF per configuration, ratio of each to the first) from the study's hazard; a
-    state without a fit has no MAF (nan)."""
-    maf = _maf(study)
-    confs = list(study.configurations)
-    rows = []
-    for state in study.damage_states:
-        values = {c: maf(fits[c][state].fit) if fits[c][state].fit is not None else math.nan for c in confs}
-        rows.append((state, values, {c: values[c] / values[confs[0]] for c in confs[1:]}))
-    return rows
-
-
-# ---- the page ------------------------------------------------------------------------------
-
-def _panels(plt, n):
-    """A figure with one panel per configuration, axes shared."""
-    fig, axes = plt.subplots(1, n, figsize=(5.2 * n, 4.2), sharex=True, sharey=True)
-    return fig, np.atleast_1d(axes)
-
-
-def plot_ida(study, rows, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    confs = list(study.configurations)
-    fig, axes = _panels(plt, len(confs))
-    for ax, conf in zip(axes, confs):
-        drift = demand_matrix(study, rows, conf)
-        for line in drift:
-            ax.plot(100 * line, study.levels, color="0.6", lw=0.8, marker=".", ms=3)
-        ax.plot(100 * np.median(drift, axis=0), study.levels, color="C3", lw=2, label="median")
-        for state, limit in study.damage_states.items():
-            ax.axvline(100 * limit, color="k", ls=":", lw=0.8)
-            ax.text(100 * limit, study.levels[-1], f" {state}", va="top", fontsize=8)
-        ax.set_title(f"{conf}: one line per record")
-        ax.set_xlabel("peak inter-storey drift ratio [%]")
-        ax.set_xscale("log")
-        ax.grid(alpha=0.3)
-    axes[0].set_ylabel(study.label)
-    axes[0].legend(loc="lower right")
-    fig.suptitle(f"Incremental dynamic analysis (stripes): {study.name}")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def plot_fragility(study, fits, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    states = list(study.damage_states)
-    fig, axes = plt.subplots(1, len(states), figsize=(4.6 * len(states), 4.0), sharey=True)
-    axes = np.atleast_1d(axes)
-    levels = np.asarray(study.levels)
-    for ax, state in zip(axes, states):
-        for i, conf in enumerate(study.configurations):
-            sf = fits[conf][state]
-            if sf.fit is None:
-                ax.plot(levels, sf.exceed.mean(axis=0), "x", color=f"C{i}", label=f"{conf} (no fit: {sf.failed})")
-                continue
-            fragility.plot_fragility(ax, sf.fit, sf.band, label=conf, data=(levels, sf.exceed.mean(axis=0)),
-                                     color=f"C{i}")
-        ax.set_title(f"{state}: drift ratio >= {study.damage_states[state]:g}")
-        ax.set_xlabel(study.label)
-        ax.grid(alpha=0.3)
-    axes[0].set_ylabel("probability of exceedance")
-    axes[0].legend(loc="lower right")
-    fig.suptitle("Lognormal fragility by maximum likelihood over stripes; bands: 5-95 % bootstrap over records")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-NO_FIT = {"none": "no run reached it", "all": "every run reached it at every stripe",
-          "separated": "the stripes separate reached from not reached exactly (beta -> 0)",
-          "single_level": "all runs at one level", "decreasing": "exceedance does not rise with intensity"}
-
-
-def _scaling_text(study, traces):
-    if traces is not None and study.ida["stripes"] == "interpolate":
-        return "each record scaled by its own intensity to each level (its demands there read off its IDA curve)"
-    if "set" in study.suite:
-        return "the set scaled collectively (FEMA P-695 6.2.2: its median intensity brought to each level)"
-    return "each record scaled by its own intensity to each level"
-
-
-def _runs_text(study, rows, traces):
-    """What was run, and its CPU per run."""
-    confs = len(study.configurations)
-    if traces is not None and study.ida["stripes"] == "interpolate":
-        runs = sum(len(r["runs"]) for r in traces)
-        cpu = np.array([r["cpu_s"] for r in traces]) / np.array([len(r["runs"]) for r in traces])
-        return (f"{runs} runs (IDA of {len(study.records)} records x {confs} configurations; the {len(rows)} stripe "
-                f"demands interpolated on the IDA curves), {cpu.mean():.2f} s CPU per run (median per record "
-                f"{np.median(cpu):.2f} s)")
-    cpu = np.array([r["cpu_s"] for r in rows])
-    return (f"{len(rows)} runs ({len(study.records)} records x {len(study.levels)} levels x {confs} "
-            f"configurations), {cpu.mean():.2f} s CPU per run (median {np.median(cpu):.2f} s)")
-
-
-def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), stages=(), intervals=None,
-               traces=None):
-    out = Path(out)
-    plot_ida(study, rows, out / "ida.png")
-    plot_fragility(study, fits, out / "fragility.png")
-    confs = list(study.configurations)
-    hazard = study.hazard
-    hazard_text = (f"the table {hazard['table']}" if "table" in hazard else
-                   f"the power law lambda(IM) = k0 IM^-k with k0 = {hazard['k0']:.4g}, k = {hazard['k']:g} "
-                   f"(IM in {study.unit})")
-    lines = [f"# Assessment: {study.name}", "", study.description, "",
-             *(["**What this study is and is not.** " + study.scope, ""] if study.scope else []),
-             f"Written by `{command}` on {platform.machine()} ({cpu_model()}), Python {platform.python_version()}: "
-             f"{_runs_text(study, rows, traces)}, {wall:.0f} s wall on {workers} worker(s)." + (" Its cost on 1 and 2 workers and the extrapolation to more: "
-             "[scaling.md](scaling.md) (it names the command that wrote it)." if (out / "scaling.md").exists() else "")
-             + (" Wall time by stage: " + ", ".join(f"{name} {sec:.0f} s" for name, sec in stages) + "."
-                if stages else ""), "",
-             f"Intensity: {study.label}, stripes {', '.join(f'{v:g}' for v in study.levels)}; " + _scaling_text(study, traces)
-             + ". Demand: peak inter-storey drift ratio, the building FMU's exact running maximum "
-             "(located between the communication points; the pendulum primary's over them) (storey "
-             f"heights {', '.join(f'{h:g}' for h in study.heights)} m). Damage states: "
-             + ", ".join(f"{k} at {v:g}" for k, v in study.damage_states.items()) + ".", "",
-             "![IDA](ida.png)", "", "![fragility](fragility.png)", "",
-             "## Fragility (lognormal, maximum likelihood over stripes, Baker 2015)", "",
-             "| damage state | configuration | median [" + study.unit + "] | dispersion beta | "
-             "bootstrap 90 % of the median |", "|---|---|---:|---:|---|"]
-    for state in study.damage_states:
-        for conf in confs:
-            sf = fits[conf][state]
-            if sf.fit is None:
-                lines.append(f"| {state} | {conf} | no fit: {NO_FIT.get(sf.failed, sf.failed)} | | |")
-                continue
-            lo, hi = np.percentile(sf.band.theta, [5, 95]) if len(sf.band.theta) else (math.nan, math.nan)
-            lines.append(f"| {state} | {conf} | {sf.fit.theta:.4g} | {sf.fit.beta:.3g} | {lo:.4g} to {hi:.4g} |")
-    lines += ["", f"## Risk: mean annual frequency of exceedance, hazard {hazard_text}", "",
-              "| damage state | " + " | ".join(f"MAF {c} [1/yr]" for c in confs) + " | " +
-              " | ".join(f"ratio {c} / {confs[0]}" for c in confs[1:]) + " |",
-              "|---|" + "---:|" * (2 * len(confs) - 1)]
-    for state, values, ratios in risks:
-        lines.append(f"| {state} | " + " | ".join(f"{values[c]:.3g}" for c in confs) + " | " +
-                     " | ".join(f"**{ratios[c]:.3g}**" for c in confs[1:]) + " |")
-    if intervals and any(intervals.values()):
-        lines += ["", f"Ratios with 90 % intervals (paired bootstrap over records, {study.bootstrap} resamples, "
-                  "both configurations refitted on each draw):", "",
-                  "| damage state | " + " | ".join(f"median ratio {c} / {confs[0]} | MAF ratio {c} / {confs[0]}"
-                                                   for c in confs[1:]) + " | unfitted resamples |",
-                  "|---|" + "---:|" * (2 * len(confs) - 1)]
-        for state, per in intervals.items():
-            if per:
-                cells = [iv.text(3) for c in confs[1:] for iv in per[c]]
-                unfitted = max(iv.unfitted for c in confs[1:] for iv in per[c])
-                lines.append(f"| {state} | " + " | ".join(cells) + f" | {unfitted} |")
-    lines += list(extra)
-    lines += ["", "Demands per run: `runs.parquet` (and the journal `runs.csv`: record, level, configuration, "
-              "peak drift ratio and its storey, peak floor absolute acceleration [m/s2], peak particle stroke "
-              "[m], impacts, CPU [s]).", "", "## The study file", "", "```toml", study.text.strip(), "```", "",
-              "## The command", "", "```sh", command, "```", ""]
-    (out / "README.md").write_text("\n".join(lines))
 
 
 def configuration_losses(study, rows, conf, collapse):
@@ -1038,126 +734,6 @@ def p695_lines(study, rows, out, collapse=None):
         lines += ["", "Ratio of the median collapse intensities (90 % paired bootstrap over records): " + "; ".join(
             f"{c} / {confs[0]}: {r.text(3)} ({r.unfitted} of {r.resamples} resamples unfitted)"
             for c, r in zip(confs[1:], ratios)) + "."]
-    return lines
-
-
-def plot_pushover(push, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.0, 4.0))
-    ax.plot(push.roof, push.base_shear / push.weight, color="C0")
-    ax.axvline(push.delta_u, color="C3", ls="--", lw=0.8, label=f"delta_u ({push.limit})")
-    ax.axvline(push.delta_y_eff, color="0.4", ls=":", lw=0.8, label="delta_y,eff (FEMA P-695 Eq. 6-7)")
-    ax.set_xlabel("roof displacement [m]")
-    ax.set_ylabel("base shear / weight")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title(f"Pushover with P-Delta (first-mode loads): mu_T = {push.mu_t:.2f}")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def _loss_levels(study):
-    """The two stripes of the repair-complete curves: those nearest the hazard's two cited points,
-    else the middle and the highest stripe."""
-    points = study.hazard.get("points")
-    targets = [p[0] for p in points] if points else [study.levels[len(study.levels) // 2], study.levels[-1]]
-    return sorted({int(np.argmin(np.abs(np.log(np.asarray(study.levels) / t)))) for t in targets})
-
-
-def plot_repair_complete(study, per_conf, table, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from . import loss_study
-
-    spec = study.losses
-    days = np.linspace(0.0, 1.5 * spec["replacement_days"], 400)
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    for i, conf in enumerate(per_conf):
-        for j, style in zip(_loss_levels(study), ("-", "--")):
-            level = study.levels[j]
-            frames = table[(table["configuration"] == conf) & (table["level"] == level)] if len(table) else None
-            done = loss_study.repair_complete(per_conf[conf], frames, j, days, spec["replacement_days"])
-            ax.plot(days, done, style, color=f"C{i}", label=f"{conf}, {study.measure} = {level:g} {study.unit}")
-    ax.set_xlabel("days after the event (repairs of all floors in parallel)")
-    ax.set_ylabel("fraction of buildings repaired")
-    ax.set_ylim(0, 1.02)
-    ax.grid(alpha=0.3)
-    ax.legend(loc="lower right", fontsize=8)
-    ax.set_title("Repair-complete curves (FEMA P-58 with pelicun; collapse: replaced)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def _mean_text(values):
-    finite = values[np.isfinite(values)]
-    return f"{finite.mean():.3g}" if finite.size else "collapsed"
-
-
-def loss_lines(study, rows, per_conf, values, ratios, slopes):
-    from . import losses
-
-    spec = study.losses
-    confs = list(per_conf)
-    workers = spec["floor_area"] * losses.WORKERS_PER_M2
-    lines = ["", "## Losses and repair time (FEMA P-58 with pelicun)", "",
-             f"Performance model `{spec['components']}` ({len(spec['model'])} component rows, FEMA P-58 2nd edition "
-             f"fragilities and repair consequences of the SimCenter Damage and Loss Model Library, USD of 2011); "
-             f"floor area {spec['floor_area']:g} m2 per storey ({workers:.2f} workers per floor: FEMA P-58's one per "
-             f"1000 sq ft); replacement {spec['replacement_cost']:.4g} USD and {spec['replacement_days']:g} days; "
-             f"{spec['realizations']} realizations per record and stripe; the analysed direction applied to both; "
-             "irreparable when the largest residual drift ratio exceeds its capacity (median 1 %, beta 0.3). "
-             "Collapse: " + "; ".join(f"{c}: {per_conf[c].collapse_source}" for c in confs) + ". "
-             "Storeys do not deteriorate (bilinear with hardening, P-Delta), so collapse is the drift limit of the "
-             "building FMU.", "",
-             "| " + study.measure + " [" + study.unit + "] | " + " | ".join(
-                 f"{c}: P(collapse) | {c}: mean loss [USD] | {c}: P(> {spec['repair_days'][0]:g} d)" for c in confs)
-             + " |", "|---:|" + "---:|" * (3 * len(confs))]
-    t0 = spec["repair_days"][0]
-    for j, level in enumerate(study.levels):
-        cells = []
-        for c in confs:
-            s = per_conf[c]
-            with np.errstate(invalid="ignore"):
-                standing = np.nanmean(s.cost[:, j]) if np.isfinite(s.cost[:, j]).any() else spec["replacement_cost"]
-                late = np.nanmean(s.exceed_days[t0][:, j]) if np.isfinite(s.exceed_days[t0][:, j]).any() else 1.0
-            p = s.p_collapse[j]
-            cells += [f"{p:.3f}", f"{p * spec['replacement_cost'] + (1 - p) * standing:.4g}",
-                      f"{p * (spec['replacement_days'] > t0) + (1 - p) * late:.3f}"]
-        lines.append(f"| {level:g} | " + " | ".join(cells) + " |")
-    lines += ["", "Where the repairs go (mean repair cost of the records standing, USD, by the components' demand: "
-              "structural = the moment connections, drift = other drift-sensitive components, acceleration = "
-              "floor-acceleration-sensitive ones), and the median peak floor acceleration over the records "
-              "(all floors' largest, m/s2): the damper lowers drifts and may raise accelerations.", "",
-              "| " + study.measure + " | " + " | ".join(f"{c}: {g}" for c in confs for g in losses.GROUPS) + " | "
-              + " | ".join(f"{c}: PFA" for c in confs) + " |", "|---:|" + "---:|" * (4 * len(confs))]
-    for j, level in enumerate(study.levels):
-        cells = [_mean_text(per_conf[c].groups[g][:, j]) for c in confs for g in losses.GROUPS]
-        cells += [f"{np.median(demand_matrix(study, rows, c, 'floor_accel')[:, j]):.3g}" for c in confs]
-        lines.append(f"| {level:g} | " + " | ".join(cells) + " |")
-    names = ["expected annual loss [USD/yr]"] + [f"MAF of repair > {t:g} days [1/yr]" for t in spec["repair_days"]]
-    lines += ["", f"Over the hazard (90 % paired bootstrap over records, {study.bootstrap} resamples; intensities "
-              f"below {study.levels[0] ** 2 / np.sqrt(study.levels[0] * study.levels[1]):.3g} {study.unit} taken to "
-              "cause no loss):", "",
-              "| quantity | " + " | ".join(confs) + " | " + " | ".join(f"ratio {c} / {confs[0]}" for c in confs[1:])
-              + " | unfitted resamples |", "|---|" + "---:|" * (2 * len(confs))]
-    for i, name in enumerate(names):
-        cells = [values[c][i].text(4) for c in confs] + [f"**{ratios[c][i].text(3)}**" for c in confs[1:]]
-        unfitted = max([values[c][i].unfitted for c in confs] + [ratios[c][i].unfitted for c in confs[1:]])
-        lines.append(f"| {name} | " + " | ".join(cells) + f" | {unfitted} |")
-    if slopes:
-        lines += ["", "Sensitivity of the EAL ratio to the hazard's slope k (the rate at the higher cited point "
-                  "kept): " + "; ".join(f"k x {s:g}: " + ", ".join(f"{r:.3g}" for r in v) for s, v in slopes.items())
-                  + "."]
-    lines += ["", "![repair complete](repair-complete.png)", "",
-              "Every loss realization: `losses.parquet` (configuration, level, record, cost, days_parallel, "
-              "days_sequential, irreparable)."]
     return lines
 
 

@@ -156,6 +156,13 @@ def _impact_speed(data):
     return {"v_impact_max": float(speeds.max()), "impacts_unrecorded": int(data["impacts_unrecorded"][-1])}
 
 
+def largest(found, storeys):
+    """The run's largest storey drift ratio, its storey (1..N) and the largest floor acceleration."""
+    ratio = np.array([found[f"PID-{k}"] for k in range(1, storeys + 1)])
+    return {"drift_ratio": float(ratio.max()), "drift_storey": int(ratio.argmax()) + 1,
+            "floor_accel": float(max(found[f"PFA-{k}"] for k in range(1, storeys + 1)))}
+
+
 def pelicun_columns(row, storeys, event=1, direction=1):
     """One run's demands as pelicun's demand sample columns {event-TYPE-location-direction: value}."""
     return {f"{event}-{name}-{direction}": row[name] for name in names(storeys)}

@@ -119,3 +119,26 @@ def at_level(trace, level):
             start = 0.0 if a is None else a[key]
             out[key] = float(start + w * (value - start))
     return out, False, False
+
+
+def leave_one_out(traces, prefixes=("PID-", "PFA-", "RID-")):
+    """How well at_level reads demands between runs, measured on the traces themselves: each
+    standing run strictly inside a record's curve (below its capacity, neither its lowest nor its
+    highest) is left out and read off the others; {prefix: (median, 90th percentile) of |read -
+    run| / run} over the runs and every demand whose name starts with the prefix (positive ones).
+    Leaving a run out doubles the gap around it, so this overstates the error at the stripes."""
+    import numpy as np
+
+    errors = {p: [] for p in prefixes}
+    for trace in traces:
+        cap = trace.capacity
+        standing = sorted((r for r in trace.runs if not r[1] and (cap is None or r[0] < cap)), key=lambda r: r[0])
+        for run in standing[1:-1]:
+            others = Trace([r for r in trace.runs if r is not run], trace.lo, trace.hi)
+            found = at_level(others, run[0])[0]
+            for key, value in run[2].items():
+                prefix = next((p for p in prefixes if key.startswith(p)), None)
+                if prefix is not None and value > 0:
+                    errors[prefix].append(abs(found[key] - value) / value)
+    return {p: (float(np.median(e)), float(np.percentile(e, 90))) if e else (float("nan"),) * 2
+            for p, e in errors.items()}

@@ -205,6 +205,6 @@ def _group_costs(sample, n):
     if sample is None or not len(sample.columns) or len(sample) != n:
         return out
     cost = sample.loc[:, sample.columns.get_level_values(0) == "Cost"]
-    for cid in set(cost.columns.get_level_values(1)) - {"replacement"}:
+    for cid in sorted(set(cost.columns.get_level_values(1)) - {"replacement"}):  # one summation order
         out[group_of(cid)] += cost.loc[:, cost.columns.get_level_values(1) == cid].to_numpy(float).sum(axis=1)
     return out

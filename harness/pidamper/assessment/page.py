@@ -1,0 +1,347 @@
+"""The page of an assessment (pidamper assess): OUT/README.md and its figures (stripes, IDA to
+collapse, fragility, pushover, repair-complete curves) from what the study computed.  Nothing here
+runs or fits; `study` is an assess.Study."""
+import math
+import platform
+from pathlib import Path
+
+import numpy as np
+
+from . import demands, fragility
+from .analysis import demand_matrix
+from ..machine import cpu_model
+
+
+def _panels(plt, n):
+    """A figure with one panel per configuration, axes shared."""
+    fig, axes = plt.subplots(1, n, figsize=(5.2 * n, 4.2), sharex=True, sharey=True)
+    return fig, np.atleast_1d(axes)
+
+
+def plot_ida(study, rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    confs = list(study.configurations)
+    fig, axes = _panels(plt, len(confs))
+    for ax, conf in zip(axes, confs):
+        drift = demand_matrix(study, rows, conf)
+        for line in drift:
+            ax.plot(100 * line, study.levels, color="0.6", lw=0.8, marker=".", ms=3)
+        ax.plot(100 * np.median(drift, axis=0), study.levels, color="C3", lw=2, label="median")
+        for state, limit in study.damage_states.items():
+            ax.axvline(100 * limit, color="k", ls=":", lw=0.8)
+            ax.text(100 * limit, study.levels[-1], f" {state}", va="top", fontsize=8)
+        ax.set_title(f"{conf}: one line per record")
+        ax.set_xlabel("peak inter-storey drift ratio [%]")
+        ax.set_xscale("log")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel(study.label)
+    axes[0].legend(loc="lower right")
+    fig.suptitle(f"Incremental dynamic analysis (stripes): {study.name}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_fragility(study, fits, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    states = list(study.damage_states)
+    fig, axes = plt.subplots(1, len(states), figsize=(4.6 * len(states), 4.0), sharey=True)
+    axes = np.atleast_1d(axes)
+    levels = np.asarray(study.levels)
+    for ax, state in zip(axes, states):
+        for i, conf in enumerate(study.configurations):
+            sf = fits[conf][state]
+            if sf.fit is None:
+                ax.plot(levels, sf.exceed.mean(axis=0), "x", color=f"C{i}", label=f"{conf} (no fit: {sf.failed})")
+                continue
+            fragility.plot_fragility(ax, sf.fit, sf.band, label=conf, data=(levels, sf.exceed.mean(axis=0)),
+                                     color=f"C{i}")
+        ax.set_title(f"{state}: drift ratio >= {study.damage_states[state]:g}")
+        ax.set_xlabel(study.label)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("probability of exceedance")
+    axes[0].legend(loc="lower right")
+    fig.suptitle("Lognormal fragility by maximum likelihood over stripes; bands: 5-95 % bootstrap over records")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+NO_FIT = {"none": "no run reached it", "all": "every run reached it at every stripe",
+          "separated": "the stripes separate reached from not reached exactly (beta -> 0)",
+          "single_level": "all runs at one level", "decreasing": "exceedance does not rise with intensity"}
+
+
+def _scaling_text(study, traces):
+    if traces is not None and study.ida["stripes"] == "interpolate":
+        return "each record scaled by its own intensity to each level (its demands there read off its IDA curve)"
+    if "set" in study.suite:
+        return "the set scaled collectively (FEMA P-695 6.2.2: its median intensity brought to each level)"
+    return "each record scaled by its own intensity to each level"
+
+
+def _runs_text(study, rows, traces):
+    """What was run, and its CPU per run."""
+    confs = len(study.configurations)
+    if traces is not None and study.ida["stripes"] == "interpolate":
+        runs = sum(len(r["runs"]) for r in traces)
+        cpu = np.array([r["cpu_s"] for r in traces]) / np.array([len(r["runs"]) for r in traces])
+        return (f"{runs} runs (IDA of {len(study.records)} records x {confs} configurations; the {len(rows)} stripe "
+                f"demands interpolated on the IDA curves), {cpu.mean():.2f} s CPU per run (median per record "
+                f"{np.median(cpu):.2f} s)")
+    cpu = np.array([r["cpu_s"] for r in rows])
+    return (f"{len(rows)} runs ({len(study.records)} records x {len(study.levels)} levels x {confs} "
+            f"configurations), {cpu.mean():.2f} s CPU per run (median {np.median(cpu):.2f} s)")
+
+
+def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), stages=(), intervals=None,
+               traces=None):
+    out = Path(out)
+    plot_ida(study, rows, out / "ida.png")
+    plot_fragility(study, fits, out / "fragility.png")
+    confs = list(study.configurations)
+    hazard = study.hazard
+    hazard_text = (f"the table {hazard['table']}" if "table" in hazard else
+                   f"the power law lambda(IM) = k0 IM^-k with k0 = {hazard['k0']:.4g}, k = {hazard['k']:g} "
+                   f"(IM in {study.unit})")
+    lines = [f"# Assessment: {study.name}", "", study.description, "",
+             *(["**What this study is and is not.** " + study.scope, ""] if study.scope else []),
+             f"Written by `{command}` on {platform.machine()} ({cpu_model()}), Python {platform.python_version()}: "
+             f"{_runs_text(study, rows, traces)}, {wall:.0f} s wall on {workers} worker(s)." + (" Its cost on 1 and 2 workers and the extrapolation to more: "
+             "[scaling.md](scaling.md) (it names the command that wrote it)." if (out / "scaling.md").exists() else "")
+             + (" Wall time by stage: " + ", ".join(f"{name} {sec:.0f} s" for name, sec in stages) + "."
+                if stages else ""), "",
+             f"Intensity: {study.label}, stripes {', '.join(f'{v:g}' for v in study.levels)}; " + _scaling_text(study, traces)
+             + ". Demand: peak inter-storey drift ratio, the building FMU's exact running maximum "
+             "(located between the communication points; the pendulum primary's over them) (storey "
+             f"heights {', '.join(f'{h:g}' for h in study.heights)} m). Damage states: "
+             + ", ".join(f"{k} at {v:g}" for k, v in study.damage_states.items()) + ".", "",
+             "![IDA](ida.png)", "", "![fragility](fragility.png)", "",
+             "## Fragility (lognormal, maximum likelihood over stripes, Baker 2015)", "",
+             "| damage state | configuration | median [" + study.unit + "] | dispersion beta | "
+             "bootstrap 90 % of the median |", "|---|---|---:|---:|---|"]
+    for state in study.damage_states:
+        for conf in confs:
+            sf = fits[conf][state]
+            if sf.fit is None:
+                lines.append(f"| {state} | {conf} | no fit: {NO_FIT.get(sf.failed, sf.failed)} | | |")
+                continue
+            lo, hi = np.percentile(sf.band.theta, [5, 95]) if len(sf.band.theta) else (math.nan, math.nan)
+            lines.append(f"| {state} | {conf} | {sf.fit.theta:.4g} | {sf.fit.beta:.3g} | {lo:.4g} to {hi:.4g} |")
+    lines += ["", f"## Risk: mean annual frequency of exceedance, hazard {hazard_text}", "",
+              "| damage state | " + " | ".join(f"MAF {c} [1/yr]" for c in confs) + " | " +
+              " | ".join(f"ratio {c} / {confs[0]}" for c in confs[1:]) + " |",
+              "|---|" + "---:|" * (2 * len(confs) - 1)]
+    for state, values, ratios in risks:
+        lines.append(f"| {state} | " + " | ".join(f"{values[c]:.3g}" for c in confs) + " | " +
+                     " | ".join(f"**{ratios[c]:.3g}**" for c in confs[1:]) + " |")
+    if intervals and any(intervals.values()):
+        lines += ["", f"Ratios with 90 % intervals (paired bootstrap over records, {study.bootstrap} resamples, "
+                  "both configurations refitted on each draw):", "",
+                  "| damage state | " + " | ".join(f"median ratio {c} / {confs[0]} | MAF ratio {c} / {confs[0]}"
+                                                   for c in confs[1:]) + " | unfitted resamples |",
+                  "|---|" + "---:|" * (2 * len(confs) - 1)]
+        for state, per in intervals.items():
+            if per:
+                cells = [iv.text(3) for c in confs[1:] for iv in per[c]]
+                unfitted = max(iv.unfitted for c in confs[1:] for iv in per[c])
+                lines.append(f"| {state} | " + " | ".join(cells) + f" | {unfitted} |")
+    lines += list(extra)
+    interpolated = traces is not None and study.ida["stripes"] == "interpolate"
+    lines += ["", ("Demands per record, stripe and configuration: `runs.parquet` (record and its metadata, level, "
+                   "scale factor, configuration, PID-k, RID-k, PFA-k, PFV-k, collapsed, the damper's stroke, impacts "
+                   "and largest impact speed, `interpolated` 0 where an IDA run was at the stripe); every IDA run's "
+                   "demands: `ida.csv`." if interpolated else
+                   "Demands per run: `runs.parquet` (and the journal `runs.csv`: record, level, configuration, "
+                   "peak drift ratio and its storey, peak floor absolute acceleration [m/s2], peak particle stroke "
+                   "[m], impacts, CPU [s]; a building's PID-k, RID-k, PFA-k, PFV-k and collapse).")
+              , "", "## The study file", "", "```toml", study.text.strip(), "```", "",
+              "## The command", "", "```sh", command, "```", ""]
+    (out / "README.md").write_text("\n".join(lines))
+
+
+def ida_lines(study, traces, wall):
+    """The page's IDA section."""
+    from .ida import Trace, leave_one_out
+
+    runs = sum(len(r["runs"]) for r in traces)
+    spec = study.ida
+    bracketed = [r for r in traces if np.isfinite(r["hi"])]
+    tight = sum(1 for r in bracketed if r["hi"] - r["lo"] <= spec["tolerance"] * r["lo"])
+    how = "The stripes below are separate runs."
+    if spec["stripes"] == "interpolate":
+        loo = leave_one_out([Trace([tuple(x) for x in r["runs"]], r["lo"], r["hi"] if np.isfinite(r["hi"]) else None)
+                             for r in traces])
+        how = (f"The stripes' demands below are interpolated on these curves (ida.at_level: each demand linear in "
+               f"intensity between the record's runs around the stripe, from (0, 0); at or above the record's "
+               f"collapse intensity its collapsing run's); {_exact_count(study, traces)} of the "
+               f"{len(traces) * len(study.levels)} record-stripe pairs fall on a run's intensity. How well that reads "
+               "between runs, each interior run left out and read off the others (this doubles the gap, so it "
+               "overstates the error at the stripes), median / 90th percentile of the relative error: "
+               + ", ".join(f"{p[:-1]} {m:.1%} / {q:.1%}" for p, (m, q) in loo.items())
+               + " (residual drifts are erratic from run to run).")
+    return ["", "## Incremental dynamic analysis to collapse", "",
+            f"Hunt and fill per record and configuration (Vamvatsikos & Cornell 2002; first {spec['first']:g}, step "
+            f"{spec['step']:g} {study.unit} growing by {spec.get('increment', spec['step'] / 2):g} a run, tolerance "
+            f"{spec['tolerance']:g} of the bracket, at most {spec['max_runs']} runs): {runs} runs, {wall:.0f} s wall, "
+            f"each stopped at collapse; {tight} of the {len(bracketed)} collapse brackets within the tolerance (the "
+            "others' runs ran out first: their bracket in `ida.csv`); each record scaled by its own intensity; the "
+            "collapse fragility below "
+            "(P-695 and losses) is the lognormal fit of the records' collapse intensities (bracket midpoints), "
+            "records that never collapsed censored (`ida.csv`, every run's demands in its `runs` column). " + how, "",
+            "![IDA to collapse](ida-collapse.png)"]
+
+
+def _exact_count(study, traces):
+    return sum(1 for r in traces for level in study.levels if any(run[0] == level for run in r["runs"]))
+
+
+def plot_ida_traces(study, traces, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    confs = list(study.configurations)
+    fig, axes = _panels(plt, len(confs))
+    for ax, conf in zip(axes, confs):
+        for r in (r for r in traces if r["configuration"] == conf):
+            standing = sorted((im, demands.largest(d, study.storeys)["drift_ratio"]) for im, c, d in r["runs"] if not c)
+            if standing:
+                ims, drifts = zip(*standing)
+                ax.plot(100 * np.array(drifts), ims, color="0.6", lw=0.8, marker=".", ms=3)
+            if np.isfinite(r["capacity"]):
+                ax.plot(100 * study.building.get("collapse_drift", 0.10), r["capacity"], "x", color="C3", ms=4)
+        ax.set_title(f"{conf}: IDA per record (x: collapse)")
+        ax.set_xlabel("peak inter-storey drift ratio [%]")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel(study.label)
+    fig.suptitle("Incremental dynamic analysis to collapse (hunt and fill, Vamvatsikos & Cornell 2002)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_pushover(push, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.0, 4.0))
+    ax.plot(push.roof, push.base_shear / push.weight, color="C0")
+    ax.axvline(push.delta_u, color="C3", ls="--", lw=0.8, label=f"delta_u ({push.limit})")
+    ax.axvline(push.delta_y_eff, color="0.4", ls=":", lw=0.8, label="delta_y,eff (FEMA P-695 Eq. 6-7)")
+    ax.set_xlabel("roof displacement [m]")
+    ax.set_ylabel("base shear / weight")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(f"Pushover with P-Delta (first-mode loads): mu_T = {push.mu_t:.2f}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _loss_levels(study):
+    """The two stripes of the repair-complete curves: those nearest the hazard's two cited points,
+    else the middle and the highest stripe."""
+    points = study.hazard.get("points")
+    targets = [p[0] for p in points] if points else [study.levels[len(study.levels) // 2], study.levels[-1]]
+    return sorted({int(np.argmin(np.abs(np.log(np.asarray(study.levels) / t)))) for t in targets})
+
+
+def plot_repair_complete(study, per_conf, table, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from . import loss_study
+
+    spec = study.losses
+    days = np.linspace(0.0, 1.5 * spec["replacement_days"], 400)
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for i, conf in enumerate(per_conf):
+        for j, style in zip(_loss_levels(study), ("-", "--")):
+            level = study.levels[j]
+            frames = table[(table["configuration"] == conf) & (table["level"] == level)] if len(table) else None
+            done = loss_study.repair_complete(per_conf[conf], frames, j, days, spec["replacement_days"])
+            ax.plot(days, done, style, color=f"C{i}", label=f"{conf}, {study.measure} = {level:g} {study.unit}")
+    ax.set_xlabel("days after the event (repairs of all floors in parallel)")
+    ax.set_ylabel("fraction of buildings repaired")
+    ax.set_ylim(0, 1.02)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="lower right", fontsize=8)
+    ax.set_title("Repair-complete curves (FEMA P-58 with pelicun; collapse: replaced)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _mean_text(values):
+    finite = values[np.isfinite(values)]
+    return f"{finite.mean():.3g}" if finite.size else "collapsed"
+
+
+def loss_lines(study, rows, per_conf, values, ratios, slopes):
+    from . import losses
+
+    spec = study.losses
+    confs = list(per_conf)
+    workers = spec["floor_area"] * losses.WORKERS_PER_M2
+    lines = ["", "## Losses and repair time (FEMA P-58 with pelicun)", "",
+             f"Performance model `{spec['components']}` ({len(spec['model'])} component rows, FEMA P-58 2nd edition "
+             f"fragilities and repair consequences of the SimCenter Damage and Loss Model Library, USD of 2011); "
+             f"floor area {spec['floor_area']:g} m2 per storey ({workers:.2f} workers per floor: FEMA P-58's one per "
+             f"1000 sq ft); replacement {spec['replacement_cost']:.4g} USD and {spec['replacement_days']:g} days; "
+             f"{spec['realizations']} realizations per record and stripe; the analysed direction applied to both; "
+             "irreparable when the largest residual drift ratio exceeds its capacity (median 1 %, beta 0.3). "
+             "Collapse: " + "; ".join(f"{c}: {per_conf[c].collapse_source}" for c in confs) + ". "
+             "Storeys do not deteriorate (bilinear with hardening, P-Delta), so collapse is the drift limit of the "
+             "building FMU.", "",
+             "| " + study.measure + " [" + study.unit + "] | " + " | ".join(
+                 f"{c}: P(collapse) | {c}: mean loss [USD] | {c}: P(> {spec['repair_days'][0]:g} d)" for c in confs)
+             + " |", "|---:|" + "---:|" * (3 * len(confs))]
+    t0 = spec["repair_days"][0]
+    for j, level in enumerate(study.levels):
+        cells = []
+        for c in confs:
+            s = per_conf[c]
+            with np.errstate(invalid="ignore"):
+                standing = np.nanmean(s.cost[:, j]) if np.isfinite(s.cost[:, j]).any() else spec["replacement_cost"]
+                late = np.nanmean(s.exceed_days[t0][:, j]) if np.isfinite(s.exceed_days[t0][:, j]).any() else 1.0
+            p = s.p_collapse[j]
+            cells += [f"{p:.3f}", f"{p * spec['replacement_cost'] + (1 - p) * standing:.4g}",
+                      f"{p * (spec['replacement_days'] > t0) + (1 - p) * late:.3f}"]
+        lines.append(f"| {level:g} | " + " | ".join(cells) + " |")
+    lines += ["", "Where the repairs go (mean repair cost of the records standing, USD, by the components' demand: "
+              "structural = the moment connections, drift = other drift-sensitive components, acceleration = "
+              "floor-acceleration-sensitive ones), and the median peak floor acceleration over the records "
+              "(all floors' largest, m/s2): the damper lowers drifts and may raise accelerations.", "",
+              "| " + study.measure + " | " + " | ".join(f"{c}: {g}" for c in confs for g in losses.GROUPS) + " | "
+              + " | ".join(f"{c}: PFA" for c in confs) + " |", "|---:|" + "---:|" * (4 * len(confs))]
+    for j, level in enumerate(study.levels):
+        cells = [_mean_text(per_conf[c].groups[g][:, j]) for c in confs for g in losses.GROUPS]
+        cells += [f"{np.median(demand_matrix(study, rows, c, 'floor_accel')[:, j]):.3g}" for c in confs]
+        lines.append(f"| {level:g} | " + " | ".join(cells) + " |")
+    names = ["expected annual loss [USD/yr]"] + [f"MAF of repair > {t:g} days [1/yr]" for t in spec["repair_days"]]
+    lines += ["", f"Over the hazard (90 % paired bootstrap over records, {study.bootstrap} resamples; intensities "
+              f"below {study.levels[0] ** 2 / np.sqrt(study.levels[0] * study.levels[1]):.3g} {study.unit} taken to "
+              "cause no loss):", "",
+              "| quantity | " + " | ".join(confs) + " | " + " | ".join(f"ratio {c} / {confs[0]}" for c in confs[1:])
+              + " | unfitted resamples |", "|---|" + "---:|" * (2 * len(confs))]
+    for i, name in enumerate(names):
+        cells = [values[c][i].text(4) for c in confs] + [f"**{ratios[c][i].text(3)}**" for c in confs[1:]]
+        unfitted = max([values[c][i].unfitted for c in confs] + [ratios[c][i].unfitted for c in confs[1:]])
+        lines.append(f"| {name} | " + " | ".join(cells) + f" | {unfitted} |")
+    if slopes:
+        lines += ["", "Sensitivity of the EAL ratio to the hazard's slope k (the rate at the higher cited point "
+                  "kept): " + "; ".join(f"k x {s:g}: " + ", ".join(f"{r:.3g}" for r in v) for s, v in slopes.items())
+                  + "."]
+    lines += ["", "![repair complete](repair-complete.png)", "",
+              "Every loss realization: `losses.parquet` (configuration, level, record, cost, days_parallel, "
+              "days_sequential, irreparable)."]
+    return lines
