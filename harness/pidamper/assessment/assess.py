@@ -711,7 +711,7 @@ def p695_lines(study, rows, out, collapse=None):
     collapse = collapse or {c: Collapse(levels, collapsed[c], study.beta_m) for c in confs}
     median = lambda conf, drawn: collapse[conf].fit(drawn).theta  # noqa: E731
     if any(collapse[c].capacities is not None for c in confs) and "set" in study.suite:
-        lines[-3:-3] = ["S_CT: the median of the records' IDA collapse intensities in the intensity of the set "
+        lines[-2:-2] = ["S_CT: the median of the records' IDA collapse intensities in the intensity of the set "
                         "scaled collectively (FEMA P-695 6.2.2: a record scaled with the set collapses at its own "
                         "capacity x median(Sa) / its Sa), the lognormal fit with censoring.", ""]
     for c in confs:
