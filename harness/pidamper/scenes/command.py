@@ -14,25 +14,57 @@ from ..running.fmu import find_fmu
 from ..running.simulation import FmuError, run
 from ..running.stepper import FmuStepper
 from ..runlog.logged_run import run_logged, wait_for_viewers
-from .scene import FORCING_ARGS, load, parse, shipped
+from .scene import (FORCING_ARGS, PER_STOREY, SceneError, check_parameters, load, parse, shipped, storey_variable,
+                    tomllib)
 
 
 def parse_param(text):
+    """-p NAME=VALUE: VALUE as a scene file writes it (TOML: 0.02, 3, 6e5, [6e5, 5e5, 3e5]), or any
+    number Python reads (.5, 1.); NAME is checked with the scene (scene.check_parameters)."""
     name, sep, value = text.partition("=")
-    if not sep:
-        raise argparse.ArgumentTypeError(f"-p {text!r} is not allowed: use NAME=VALUE")
+    name = name.strip()
+    if not sep or not name:
+        raise argparse.ArgumentTypeError(f"-p {text!r} is not allowed: use NAME=VALUE, e.g. -p mu=0.02, "
+                                         "-p 'storey[1].Fy=1e6' or -p 'storey_Fy=[6e5, 5e5, 3e5]'")
     try:
-        number = int(value) if name.strip() in ("contact_form", "storeys", "damper_floor") else float(value)
+        parsed = tomllib.loads(f"value = {value.strip()}")
+        if list(parsed) == ["value"]:
+            return name, parsed["value"]
+    except tomllib.TOMLDecodeError:
+        pass
+    try:
+        return name, float(value)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"-p {text!r} is not allowed: {value!r} is not a number") from None
-    return name.strip(), number
+        raise argparse.ArgumentTypeError(f"-p {text!r} is not allowed: {value!r} is not a number or a list of "
+                                         "numbers as a scene file writes it, e.g. [6e5, 5e5, 3e5]") from None
+
+
+def _parameters(base, overrides):
+    """The scene's parameters with the -p overrides: a per-storey parameter given replaces the
+    scene's value and any storey[k] variable of it the scene gives; refusals of an override name it
+    as -p NAME."""
+    params = dict(base.parameters)
+    for key in overrides:
+        if key in PER_STOREY:
+            for name in [n for n in params if (storey_variable(n) or (None,))[0] == key]:
+                del params[name]
+    params.update(overrides)
+    try:
+        check_parameters(params, base.source)
+    except SceneError as err:
+        name = err.name.removeprefix("parameters.")
+        key = next((k for k in overrides if name == k or name.startswith(k + "[")), None)
+        if key is None:
+            raise
+        raise SceneError(f"pidamper run {base.name}", f"-p {name}", err.value, err.allowed) from None
+    return params
 
 
 def scene_from_args(args):
     """The scene to run: args.scene (a shipped name or a file; default: 'default') with every
     option given on the command line overriding its field (validated like the file)."""
     base = load(args.scene or "default")
-    data = {"description": base.description, "parameters": {**base.parameters, **dict(args.param or [])},
+    data = {"description": base.description, "parameters": _parameters(base, dict(args.param or [])),
             "forcing": dict(base.forcing), "run": dict(base.run), "outputs": {"record": list(base.outputs)},
             "log": dict(base.log)}
     forcing = data["forcing"]
@@ -72,7 +104,10 @@ def add_arguments(parser):
                        + ") or a scene file (.toml); default: default. Every option below overrides its field")
     parser.add_argument("--fmu", help="FMU file (default: build or reuse dist/PendulumImpactDamper.fmu)")
     parser.add_argument("-p", "--param", action="append", type=parse_param, metavar="NAME=VALUE",
-                       help="FMU parameter or initial state, e.g. -p mu=0.02 -p theta_dot_0=1.5 (repeatable)")
+                       help="FMU parameter or initial state, by its scene or FMU name, the value as a scene file "
+                            "writes it, e.g. -p mu=0.02 -p theta_dot_0=1.5; on a building "
+                            "-p 'storey_Fy=[6e5, 5e5, 3e5]' (storey 1 first) or -p 'storey[1].Fy=1e6' "
+                            "(repeatable; names checked before the run)")
     parser.add_argument("--forcing", choices=list(FORCING_ARGS))
     parser.add_argument("--F0", type=float, help="force amplitude [N]")
     parser.add_argument("--omega", type=float, help="harmonic frequency [rad/s] (default: resonance w2)")

@@ -7,7 +7,9 @@
 Fields (every one optional but [forcing].kind):
 
     description = "..."
-    [parameters]  FMU parameters and initial state, e.g. mu = 0.02, theta_dot_0 = 0.0
+    [parameters]  FMU parameters and initial state, e.g. mu = 0.02, theta_dot_0 = 0.0; a building's
+                  per-storey ones as a number (every storey) or a list of `storeys` numbers
+                  (storey_Fy = [6e5, 5e5, 3e5]), or one storey's FMU variable ("storey[1].Fy" = 1e6)
     [forcing]     kind = "none" | "harmonic" | "sweep" | "csv" | "kanai-tajimi", and its arguments:
                   harmonic: F0 [N], Omega [rad/s] or Omega_ratio (of w2), phi [rad], sampled (bool)
                   sweep: F0, Omega_start / Omega_end [rad/s] or Omega_start_ratio / Omega_end_ratio
@@ -19,8 +21,10 @@ Fields (every one optional but [forcing].kind):
 
 A scene that does not follow this is refused with the field, its value and what is allowed.
 """
+import difflib
 import importlib.resources
 import math
+import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -47,6 +51,10 @@ PARAMETERS = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "
 #: FMU variables they fill
 PER_STOREY = {"floor_m": "floor[{}].m", "storey_k": "storey[{}].k", "storey_h": "storey[{}].h",
               "storey_Fy": "storey[{}].Fy", "storey_b": "storey[{}].b"}
+#: one storey's FMU variable (floor[k].m, storey[k].k, ...): it overrides the per-storey parameter
+STOREY_VARIABLE = re.compile(r"(floor|storey)\[(\d+)\]\.(\w+)")
+STOREY_VARIABLES = tuple(pattern.format("k") for pattern in PER_STOREY.values())
+INTEGERS = ("storeys", "damper_floor", "contact_form", "p_delta", "restitution")
 FIDELITY = LEVELS  # linear, damped, coupled, nonlinear: FMU parameter fidelity = the index
 SECTIONS = ("description", "name", "parameters", "forcing", "run", "outputs", "log")
 FORCING_ARGS = {
@@ -129,14 +137,80 @@ class Scene:
 def fmu_values(parameters):
     """FMU start values of scene or study parameters: floor_m, storey_k, storey_h, storey_Fy and
     storey_b (a number for every storey, or a list, storey 1 first) spread over floor[k].m,
-    storey[k].k, storey[k].h, storey[k].Fy and storey[k].b."""
+    storey[k].k, storey[k].h, storey[k].Fy and storey[k].b; a storey's own variable given by its
+    FMU name (storey[1].Fy) overrides the spread value."""
     values = {k: v for k, v in parameters.items() if k not in PER_STOREY}
     for key, pattern in PER_STOREY.items():
         given = parameters.get(key)
         if given is not None:
             listed = given if isinstance(given, list) else [given] * MAX_STOREYS
             values.update({pattern.format(k): float(v) for k, v in enumerate(listed, start=1)})
+    values.update({k: float(v) for k, v in parameters.items() if storey_variable(k)})
     return values
+
+
+def storey_variable(name):
+    """(the per-storey parameter, k) of a storey's FMU variable name (storey[2].Fy: ('storey_Fy', 2)),
+    or None."""
+    found = STOREY_VARIABLE.fullmatch(name)
+    if found is None:
+        return None
+    for key, pattern in PER_STOREY.items():
+        if pattern.format(found.group(2)) == name and not found.group(2).startswith("0"):
+            return key, int(found.group(2))
+    return None
+
+
+def check_parameters(params, source, prefix="parameters."):
+    """Refuse a parameter the FMU does not have, or a value it cannot take, naming it and the rule
+    (an unknown name with the closest valid ones); `prefix` + name is the field named."""
+    storeys = params.get("storeys", 0)
+    if type(storeys) is not int or not 0 <= storeys <= MAX_STOREYS:
+        raise SceneError(source, f"{prefix}storeys", storeys,
+                         f"an integer in 0..{MAX_STOREYS} (0: the pendulum system, N: a building of N storeys)")
+    no_building = "a building's parameter: give storeys >= 1 with it (storeys = 0, the pendulum system, has none)"
+    for key, value in params.items():
+        field_ = f"{prefix}{key}"
+        own = storey_variable(key)
+        if own is not None:
+            _number(source, field_, value)
+            if not storeys:
+                raise SceneError(source, field_, value, no_building)
+            if not 1 <= own[1] <= storeys:
+                raise SceneError(source, field_, value,
+                                 f"the building's storeys are 1..{storeys} (storeys = {storeys})")
+            continue
+        if key not in PARAMETERS:
+            raise SceneError(source, field_, value, _unknown(key, storeys))
+        if key in PER_STOREY:
+            if not storeys:
+                raise SceneError(source, field_, value, no_building)
+            if isinstance(value, list):
+                if len(value) != storeys:
+                    raise SceneError(source, field_, value, f"a number (every storey) or a list of storeys = "
+                                     f"{storeys} numbers (storey 1 first), not {len(value)}")
+                for k, item in enumerate(value, start=1):
+                    _number(source, f"{field_}[{k}]", item)
+                continue
+        _number(source, field_, value)
+        if key in INTEGERS and not isinstance(value, int):
+            raise SceneError(source, field_, value, "an integer")
+
+
+def _unknown(name, storeys):
+    """What an unknown parameter name is told: the closest valid names, then all of them."""
+    own = [pattern.format(k) for pattern in PER_STOREY.values() for k in range(1, storeys + 1)]
+    names = PARAMETERS + tuple(own)
+    lowered = {n.lower(): n for n in names}
+    close = [lowered[n] for n in difflib.get_close_matches(name.lower(), list(lowered), n=4, cutoff=0.6)]
+    tail = name.lower().rpartition(".")[2].rpartition("_")[2]  # Fy: storey_Fy, storey[k].Fy
+    close += [n for n in names if n not in close and tail and re.split(r"[._]", n.lower())[-1] == tail]
+    hint = f"did you mean {', '.join(close[:4])}? " if close else ""
+    if name == "fidelity":
+        hint = "the level is run.fidelity (pidamper run --fidelity). "
+    storey_names = (f"; a building's storey k = 1..{storeys} by its FMU name: {', '.join(STOREY_VARIABLES)}"
+                    if storeys else "")
+    return f"{hint}FMU parameters are {', '.join(PARAMETERS)}{storey_names}"
 
 
 def shipped():
@@ -171,19 +245,7 @@ def parse(data, source="scene", folder=Path("."), name="scene"):
         if key not in SECTIONS:
             raise SceneError(source, key, data[key], f"the top-level fields are {', '.join(SECTIONS)}")
     params = _table(data, "parameters", source)
-    for key, value in params.items():
-        if key not in PARAMETERS:
-            raise SceneError(source, f"parameters.{key}", value, f"FMU parameters are {', '.join(PARAMETERS)}")
-        if key in PER_STOREY and isinstance(value, list):
-            if not 1 <= len(value) <= MAX_STOREYS:
-                raise SceneError(source, f"parameters.{key}", value, f"a number or a list of 1 to {MAX_STOREYS} "
-                                 "numbers (storey 1 first)")
-            for k, item in enumerate(value, start=1):
-                _number(source, f"parameters.{key}[{k}]", item)
-            continue
-        _number(source, f"parameters.{key}", value)
-        if key in ("storeys", "damper_floor", "contact_form", "p_delta", "restitution") and not isinstance(value, int):
-            raise SceneError(source, f"parameters.{key}", value, "an integer")
+    check_parameters(params, source)
     forcing = _table(data, "forcing", source) or {"kind": "none"}
     kind = forcing.get("kind")
     if kind not in FORCING_ARGS:
