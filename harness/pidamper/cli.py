@@ -23,7 +23,7 @@ OWN_PARSER = {
     "paper": ("pidamper.studies.paper:main", "regenerate the paper's figures for both readings (pidamper paper --help)"),
     "cosim": ("pidamper.cosim.command:cli_main",
               "the damper unit FMU on a ShearBuilding<N> FMU, or with --opensees MODEL.py on a node of your "
-              "OpenSees model, co-simulated (pidamper cosim --help, pidamper cosim --opensees x --help)"),
+              "OpenSees model, co-simulated (pidamper cosim --help shows both)"),
     "assess": ("pidamper.assessment.assess:cli_main",
                "performance-based assessment: suite, stripes, fragility, risk (pidamper assess --help)"),
 }
@@ -81,6 +81,11 @@ def main(argv=None):
         sys.stdout.flush()
         sys.stderr.flush()
         os._exit(code)
+    if argv and argv[0] == "cosim" and any(a in ("-h", "--help") for a in argv):  # both forms' options
+        from .cosim.command import cli_main
+        from .opensees.command import parser as opensees_parser
+
+        return cli_main(argv[1:], more_help=opensees_parser().format_help())
     if argv and argv[0] in OWN_PARSER:  # their own parsers take the rest
         return _own(argv[0], argv[1:])
     args = parser().parse_args(argv)

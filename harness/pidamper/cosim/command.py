@@ -26,8 +26,9 @@ def add_arguments(parser):
                         help="scenario field, e.g. -p e=0.8 -p pulse=3 (fields of pidamper.cosim.Scenario; -p sets its fields)")
 
 
-def cli_main(argv=None):
-    """pidamper cosim [options]: run the coupled system (see add_arguments); exit status."""
+def cli_main(argv=None, more_help=""):
+    """pidamper cosim [options]: run the coupled system (see add_arguments); exit status.  more_help:
+    printed after this help by -h (the cli passes the --opensees form's own help)."""
     import argparse
     import sys
 
@@ -35,8 +36,12 @@ def cli_main(argv=None):
         prog="pidamper cosim",
         description="Co-simulate PendulumImpactDamperUnit.fmu on ShearBuilding<N>.fmu (Gauss-Seidel with fmpy, or "
                     "libcosim's Jacobi) and compare with the exact monolithic model; --export writes the SSP files "
-                    "and OSP system structures.")
+                    "and OSP system structures.  With --opensees MODEL.py: the unit on a node of your OpenSees "
+                    "model" + (" (its options below)." if more_help else "."))
     add_arguments(parser)
+    if more_help and any(a in ("-h", "--help") for a in (sys.argv[1:] if argv is None else argv)):
+        print(parser.format_help() + "\n" + more_help, end="")
+        return 0
     args = parser.parse_args(argv)
     try:
         return main(args)

@@ -33,16 +33,14 @@ import numpy as np
 from ..oracles.opensees import load, staircase
 from ..running.fmu import find_fmu
 from ..running.instance import FmuInstance
+from . import checks
+from .checks import CouplingError
 
 #: the unit's outputs recorded each step, by their FMU names
 UNIT_OUTPUTS = ("F_s", "J_s", "t_J", "r", "r_dot", "impacts", "contact", "energy_dissipated", "impact_force_peak",
                 "contact_pressure_peak", "impacts_plastic")
 #: tags the master owns in the user's model (far from what a model file uses)
 _GROUND_SERIES, _GROUND_PATTERN, _FORCE_SERIES, _FORCE_PATTERN = 910001, 910002, 910003, 910100
-
-
-class CouplingError(ValueError):
-    """A value the coupling cannot honour (a node, a degree of freedom, a mass, a step), named."""
 
 
 class OpenSeesFailure(RuntimeError):
@@ -115,26 +113,17 @@ class Coupling:
 
     def __init__(self, attachments, h, ground=None, direction=1, substeps=4, fmu=None, logger=None, watch=()):
         self.ops = ops = load()
-        if not (math.isfinite(h) and h > 0.0):
-            raise CouplingError(f"step = {h!r} is not allowed: a finite number > 0 s")
-        if type(substeps) is not int or substeps < 1:
-            raise CouplingError(f"substeps = {substeps!r} is not allowed: an integer >= 1")
-        self.h, self.substeps, self.direction = h, substeps, direction
+        self.h, self.substeps = checks.positive("step", h), checks.count("substeps", substeps)
+        self.direction = direction
+        checks.on_model(ops, attachments, direction)
         tags = set(ops.getNodeTags())
-        for a in attachments:
-            if a.node not in tags:
-                raise CouplingError(f"node = {a.node!r} is not allowed: the model has no such node "
-                                    f"({len(tags)} nodes, tags {min(tags)}..{max(tags)})" if tags else
-                                    f"node = {a.node!r} is not allowed: the model has no nodes")
-            ndf = len(ops.nodeDisp(a.node))
-            if type(a.dof) is not int or not 1 <= a.dof <= ndf:
-                raise CouplingError(f"dof = {a.dof!r} is not allowed: node {a.node} has degrees of freedom 1..{ndf}")
         self.attachments = attachments
         self.watch = [tuple(w) for w in watch]  # (node, dof) recorded every step beside the attachments
         for node, dof in self.watch:
             if node not in tags:
                 raise CouplingError(f"watch node = {node!r} is not allowed: the model has no such node")
         self._made = False
+        self.done, self.stopped = 0, None  # steps done; while run() goes, stopped(text, t) (see there)
         self._analysis()
         M, C = _matrices(ops)
         eq = _equations(ops)
@@ -231,11 +220,11 @@ class Coupling:
 
     def run(self, stop_time, sink=None, block=500):
         """Co-simulate to stop_time [s] (a whole number of steps); returns a CosimResult.  sink (a
-        log.CosimLog) gets the rows every `block` steps and, on a failure, those up to it and a note."""
+        log.CosimLog) gets the rows every `block` steps and, on a failure, those up to it and a note;
+        while it goes, self.stopped(text, t) does that for a failure seen from outside (the process
+        ending: exits.py)."""
         ops, h = self.ops, self.h
-        n = int(round(stop_time / h))
-        if n < 1 or abs(n * h - stop_time) > 1e-9 * stop_time:
-            raise CouplingError(f"stop_time = {stop_time!r} is not allowed: a whole number of steps of {h!r} s")
+        n = checks.horizon(stop_time, h)
         if self.ground is not None and len(self.ground) < n:
             raise CouplingError(f"stop_time = {stop_time!r} is not allowed: the ground motion has "
                                 f"{len(self.ground)} steps of {h!r} s")
@@ -264,15 +253,21 @@ class Coupling:
                            impulses[written[1]:])
                 written[:] = [upto, len(impulses)]
 
+        def stopped(text, t):
+            hand_on(self.done + 1)  # the steps completed before the failure
+            if sink is not None:
+                sink.note(t, f"the co-simulation stopped: {text}", "ERROR")
+
         if sink is not None:
             sink.write(np.zeros(1), [x[:1] for x in nodes], [u[:1] for u in units], [])
+        self.stopped = stopped
         try:
             self._loop(n, nodes, units, impulses, means, v_then, vr_in, vr_out, vr_int, order, hand_on, block)
         except Exception as err:
-            hand_on(self.done + 1)  # the steps completed before the failure
-            if sink is not None:
-                sink.note(ops.getTime(), f"the co-simulation stopped: {err}", "ERROR")
+            stopped(str(err), ops.getTime())
             raise
+        finally:
+            self.stopped = None
         hand_on(n + 1)
         cpu = time.process_time() - start
         warnings = [text for status, text in self.messages if status == 1]

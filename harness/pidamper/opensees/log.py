@@ -98,6 +98,14 @@ class CosimLog:
             self.rec.log("events", rr.TextLog(text, level=level))
             self.rec.flush()
 
+    def drop_rerun(self):
+        """Close the Rerun recording as it is (it reads back up to its last block) and write no more
+        to it: inside a C exit (exits.py) Arrow's C++ state, which new rows go through, may already
+        be torn down (a segfault); closing it and the MCAP (Rust only) is safe there."""
+        if self.rec is not None:
+            self.rec.flush()
+            self.rec = None
+
     def close(self):
         if self.writer is not None:
             self.writer.close()
