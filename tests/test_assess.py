@@ -1,5 +1,10 @@
 """`pidamper assess`: the whole path on a tiny suite (runs, resume, Parquet, page, figures), the IDA of
-the bare building against linearity, a suite of .AT2 files, and refusals of bad study files."""
+the bare building against linearity, a suite of .AT2 files, and what the console says (progress in
+lines, NaN with its reason, the page's run count); refusals of bad study files: test_study_file.py."""
+import contextlib
+import csv
+import io
+import json
 import re
 from pathlib import Path
 
@@ -125,24 +130,6 @@ def test_a_suite_of_at2_files(tmp_path):
     assert [r.name for r in study.records] == ["r1", "r2"] and len(assess.tasks(study)) == 2 * 6 * 2
 
 
-@pytest.mark.parametrize("change,field", [
-    (("storeys = 2", "storeys = 11"), "building.storeys"),
-    (("levels = [0.1, 0.15, 0.2, 0.3, 0.45, 0.7]", "levels = [1.0, 0.5]"), "intensity.levels"),
-    (('measure = "PGV"', 'measure = "SA"'), "intensity.measure"),
-    (("k0 = 1.0e-3", "k0 = -1.0"), "hazard"),
-    (("e = 0.5", "e = 1.5"), "configurations.damper"),
-    (("count = 4", "count = 4\nbogus = 1"), "suite"),
-])
-def test_bad_study_files_are_refused_naming_the_field(tmp_path, change, field):
-    path = write(tmp_path)
-    path.write_text(path.read_text().replace(*change))
-    with pytest.raises(assess.StudyError) as err:
-        assess.load(path)
-    assert f"{field} = " in str(err.value) and "is not allowed" in str(err.value)
-    assert main(["assess", str(path), "--out", str(tmp_path / "o")]) == 2
-    assert not (tmp_path / "o").exists()
-
-
 def test_the_shipped_study_is_valid_and_small_enough():
     study = assess.load(Path(__file__).parent.parent / "studies" / "three-storey.toml")
     runs = len(assess.tasks(study))
@@ -164,3 +151,58 @@ def test_the_pendulum_primary_works_as_well(tmp_path):
     assert bare[1]["drift_ratio"] / bare[1]["level"] == pytest.approx(bare[0]["drift_ratio"] / bare[0]["level"],
                                                                       rel=1e-12)
     assert all(r["drift_storey"] == 1 and r["drift_ratio"] > 0 for r in rows)
+
+
+@pytest.fixture(scope="module", params=["interpolate", "run"])
+def said(request, fmu_dir, tmp_path_factory):
+    """A small study with an IDA (2 records x 2 configurations, 3 runs each) and its stripes read off
+    the IDA curves or run, through the command line with stdout and stderr not a terminal: (study,
+    out, stdout, stderr).  Damage state C is beyond every run (no fit)."""
+    folder = tmp_path_factory.mktemp("said")
+    study = write(folder, GENERATED.replace("count = 4", "count = 2").replace("duration = 3.0", "duration = 1.0"))
+    text = study.read_text().replace("levels = [0.1, 0.15, 0.2, 0.3, 0.45, 0.7]", "levels = [0.1, 0.3, 0.7]")
+    text = text.replace("B = 0.006", "B = 0.006\nC = 0.5").replace(
+        "[run]", f'[ida]\nfirst = 0.1\nstep = 0.3\nmax_runs = 3\nstripes = "{request.param}"\n\n[run]')
+    study.write_text(text)
+    out, stdout, stderr = folder / "out", io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+        assert main(["assess", str(study), "--out", str(out), "--workers", "1"]) == 0
+    return study, out, stdout.getvalue(), stderr.getvalue()
+
+
+def test_progress_is_said_in_lines_when_stderr_is_not_a_terminal(said):
+    """A line as each configuration's IDAs (and stripe runs) are all done, with the tasks done and the
+    total; a line as each stage ends."""
+    study, out, _, stderr = said
+    lines = stderr.splitlines()
+    for conf in ("bare", "damper"):
+        assert sum(re.fullmatch(rf"pidamper assess: IDA: configuration {conf} done; [34] of 4 IDAs done \(\d+ runs\), "
+                                r"\d+ s", line) is not None for line in lines) == 1, stderr
+    assert "pidamper assess: IDA: 4 of 4 IDAs to run\n" in stderr and "4 of 4 IDAs done (12 runs)" in stderr
+    if "stripes = \"run\"" in study.read_text():
+        assert re.search(r"stripe runs: configuration (bare|damper) done; 12 of 12 runs done", stderr)
+    for stage in ("IDA runs", "damage-state fits", "page"):
+        assert f"pidamper assess: {stage} finished, " in stderr
+
+
+def test_a_missing_figure_in_the_console_comes_with_its_reason(said):
+    """No 'nan' on the console: a damage state without a fit says why, as the page does."""
+    _, out, stdout, _ = said
+    assert "nan" not in stdout.lower()
+    line = next(line for line in stdout.splitlines() if line.startswith("C: "))
+    assert line == ("C: MAF bare none (no fit: no run reached it), MAF damper none (no fit: no run reached it); "
+                    "ratio damper none (no fit for bare and damper)")
+    page = (out / "README.md").read_text()
+    assert "| C | none (no fit: no run reached it) | none (no fit: no run reached it) |" in page
+
+
+def test_the_console_and_the_page_count_the_same_runs(said):
+    """Every FMU run is counted once: the IDAs' runs (ida.csv) and the stripe runs, none of which
+    runs when the stripes are read off the IDA curves."""
+    study, out, stdout, _ = said
+    with (out / "ida.csv").open(newline="") as handle:
+        ida = sum(len(json.loads(row["runs"])) for row in csv.DictReader(handle))
+    stripes = 2 * 3 * 2 if "stripes = \"run\"" in study.read_text() else 0
+    console = int(re.match(r"(\d+) runs \(", stdout).group(1))
+    page = int(re.search(r"Python [0-9.]+: (\d+) runs \(", (out / "README.md").read_text()).group(1))
+    assert console == page == ida + stripes == 12 + stripes

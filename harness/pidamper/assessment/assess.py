@@ -4,25 +4,29 @@ and the mean annual frequency of exceeding it from a hazard curve.
 
     pidamper assess STUDY.toml [--out DIR] [--workers N] [--dask | --scheduler ADDR] [--engine fmu|core]
 
-The study file (TOML; every field is checked, a refusal names the field, its value and what is
-allowed):
+The study file (TOML; every field is checked before any run (assessment.study_file), a refusal
+names the table and field, its value and what is allowed, exit status 2):
 
     [study]          name, description, scope (what the study is and is not: a paragraph on the page)
-    [building]       FMU parameters of the building (storeys 1..10: DampedShearBuilding<N>.fmu runs
-                     it; floor_m, storey_k: a number or a list, zeta_s, fidelity "damped"...; or
+    [building]       storeys (required) and FMU parameters of the building (storeys 1..10:
+                     DampedShearBuilding<N>.fmu runs it, its parameters by name, storey[k].Fy...;
+                     floor_m, storey_k, storey_Fy, storey_b: a number or a list of one per storey,
+                     not beside the storey[k] names they fill; zeta_s, fidelity "damped"...; or
                      storeys = 0, the pendulum primary of PendulumImpactDamper.fmu, whose displacement
                      x is the one storey's drift) and storey_height [m] (a number or a list; default
-                     STOREY_HEIGHT: an alias of the FMU's storey[k].h)
+                     STOREY_HEIGHT: the FMU's storey[k].h); not the initial state nor the built-in
+                     harmonic force (every run starts from rest, driven by its record)
     [configurations.NAME]   FMU parameters of each configuration on top of the building (mu = 0: no
-                     damper); the first one is the reference of the risk ratio
+                     damper; not storeys, storey_height); the first one is the reference of the risk ratio
     [suite]          folder = "records/" (every .AT2 and .csv) or generator = "clough-penzien" ... (see
                      ground_motion.suite)
     [intensity]      measure = "Sa" (Sa(T1, 5 %), T1 the bare building's first period), "PGA" or
-                     "PGV"; levels = [...] in g (Sa, PGA) or m/s (PGV); zeta = 0.05
-    [damage_states]  NAME = peak inter-storey drift ratio limit (default DAMAGE_STATES)
-    [hazard]         k0, k (power law k0 IM^-k, IM in the levels' units), points = [[IM, rate], [IM,
-                     rate]] with their source (the power law through them), or table = "hazard.csv"
-                     (columns im, rate; rates decreasing)
+                     "PGV"; levels = [...] (required; ascending, none twice) in g (Sa, PGA) or m/s
+                     (PGV); zeta = 0.05
+    [damage_states]  NAME = peak inter-storey drift ratio limit in (0, 1) (default DAMAGE_STATES)
+    [hazard]         one of: k0, k (power law k0 IM^-k, IM in the levels' units), points = [[IM, rate],
+                     [IM, rate]] with their source (the power law through them), or table =
+                     "hazard.csv" (columns im, rate; rates decreasing)
     [losses]         components (a FEMA P-58 component CSV), floor_area [m2], replacement_cost [USD
                      2011], replacement_days, realizations (default 50), repair_days ([30, 180]):
                      repair cost and time with pelicun (losses, loss_study)
@@ -33,9 +37,11 @@ allowed):
                      capacities then give the collapse fragility of [p695] (in the intensity of the set
                      scaled collectively) and [losses]; with stripes = "interpolate" (the default) the
                      stripes' demands are read off the IDA curves and no stripe is run
-    [run]            step [s] (communication step; default the records' dt), bootstrap (default 500),
-                     seed (default 0), beta_m (modelling dispersion added to the collapse fragility;
-                     default 0)
+                     ([losses], [p695], [ida]: a building, storeys >= 1, run through its FMU)
+    [run]            step [s] (communication step, > 0 and shorter than the shortest record; default
+                     the records' dt), bootstrap (an integer >= 1; default 500), seed (an integer >= 0;
+                     default 0), beta_m (modelling dispersion added to the collapse fragility, in [0,
+                     2); default 0)
 
 Each run is one record scaled to one level, in one configuration, through the FMU with fmpy
 (`--engine core`: the physics core directly). Demands per run: peak inter-storey drift ratio
@@ -47,6 +53,12 @@ points), impact count; a building run also gives the FEMA P-58 demands (assessme
 `pidamper study`; each finished run is appended to OUT/runs.csv at once, so an interrupted study
 resumes; OUT/runs.parquet is the tidy table at the end. OUT/README.md has the IDA and fragility
 figures, the fragility and risk tables, the study file and the command.
+
+Progress goes to stderr: tqdm's bar on a terminal, otherwise a line as a stage of runs starts, at
+each tenth of its tasks and as each configuration's tasks are all done (tasks done of the total);
+a line as each stage ends.  The console's summary counts the runs as the page does (every IDA run
+and every stripe run) and gives each damage state's MAF per configuration and ratio to the first,
+or why there is none (the page's reason, e.g. no run reached it).
 """
 import argparse
 import functools
@@ -64,11 +76,12 @@ import numpy as np
 
 from pidamper_physics import Params
 
-from . import demands, fragility
+from . import demands, fragility, study_file
 from .analysis import analyse, demand_matrix, hazard_rate, risk_intervals
-from .page import NO_FIT, ida_lines, loss_lines, plot_ida_traces, plot_pushover, plot_repair_complete, write_page
+from .page import (NO_FIT, ida_lines, loss_lines, maf_text, plot_ida_traces, plot_pushover, plot_repair_complete,
+                   ratio_text, runs_text, write_page)
+from .study_file import LOSS_FIELDS, StudyError
 from ..forcing import ground_motion, spectra
-from ..errors import FieldError
 from ..forcing import Forcing
 from ..scenes.scene import FIDELITY, fmu_values
 from ..studies.runner import Table, add_runner_arguments, run_table
@@ -85,37 +98,11 @@ STOREY_HEIGHT = 3.0
 #: default damage states, peak transient inter-storey drift ratio: FEMA 356 (2000), Table C1-3,
 #: concrete frames: Immediate Occupancy 1 %, Life Safety 2 %, Collapse Prevention 4 %
 DAMAGE_STATES = {"IO": 0.01, "LS": 0.02, "CP": 0.04}
-SECTIONS = ("study", "building", "configurations", "suite", "intensity", "damage_states", "hazard", "losses", "p695",
-            "ida", "run")
-#: [ida]: incremental dynamic analysis to collapse by hunt and fill (ida.hunt_and_fill), per record and
-#: configuration, each record scaled by its own intensity; its capacities then give the collapse fragility
-IDA_FIELDS = {"first": "the first intensity (levels' unit, > 0)", "step": "the hunt's first step (> 0)",
-              "increment": "the hunt's step growth (>= 0; default step / 2)",
-              "tolerance": "the bracket's relative width (0..1; default 0.05)",
-              "max_runs": "runs per record (an integer >= 2; default 10)",
-              "stripes": "the stripes' demands: \"interpolate\" (on the IDA curves, no stripe runs; the default) "
-                         "or \"run\" (every record run at every stripe, scaled collectively for a FEMA P-695 set)"}
-#: [p695]: FEMA P-695's collapse margin (p695.margin): seismic design category, the ratings of design
-#: requirements, test data and model (Table 7-2), the record set of the spectral shape factor
-P695_FIELDS = {"sdc": ("dmax", "dmin", "cmax", "cmin", "bmax", "bmin"), "ratings": "three of A, B, C, D",
-               "record_set": ("farfield", "nearfield")}
-#: [losses] fields: the performance model and what replacing the building costs (FEMA P-58)
-LOSS_FIELDS = {"components": "a CSV of FEMA P-58 components (pelicun's format), beside the study file",
-               "floor_area": "the floor area of one storey [m2] (> 0)",
-               "replacement_cost": "the building's replacement cost [USD 2011] (> 0)",
-               "replacement_days": "the days to replace it [days] (> 0)",
-               "realizations": "loss realizations per record (an integer >= 1; default 50)",
-               "repair_days": "repair-time thresholds [days] for the annual frequencies (default [30, 180])"}
 DEMANDS = ("drift_ratio", "drift_storey", "floor_accel", "stroke", "impacts", "cpu_s")
-MEASURES = ("Sa", "PGA", "PGV")
 #: what a building run through the FMU adds (assessment.demands; nan for the core engine and the
 #: pendulum primary): collapse (0/1), end time [s], the damper's largest impact speed [m/s] and
 #: impacts past the FMU's records; then the per-storey and per-floor demands, demands.names()
 RUN_FIELDS = ("collapsed", "t_end", "v_impact_max", "impacts_unrecorded")
-
-
-class StudyError(FieldError):
-    """A study field with a value that is not allowed."""
 
 
 @dataclass
@@ -204,44 +191,22 @@ def load(path):
 
 
 def parse(data, source="study", folder=Path("."), text=""):
-    for key in data:
-        if key not in SECTIONS:
-            raise StudyError(source, key, data[key], f"the sections are {', '.join(SECTIONS)}")
-    head = _table(data, "study", source)
-    building = _table(data, "building", source)
-    storeys = building.get("storeys", 0)
-    if not isinstance(storeys, int) or isinstance(storeys, bool) or not 0 <= storeys <= 10:
-        raise StudyError(source, "building.storeys", storeys, "an integer in 0..10 (0: the pendulum primary, "
-                         "its displacement x the one storey's drift)")
+    """The Study of a study file's TOML data: every field checked first (study_file.check), then what
+    needs the FMU's ranges, the files named and the records; a refusal names the field (StudyError)."""
+    study_file.check(data, source)
+    head, building, run = data.get("study", {}), dict(data["building"]), data.get("run", {})
+    storeys = building["storeys"]
     heights = building.get("storey_height", STOREY_HEIGHT)
     heights = heights if isinstance(heights, list) else [heights] * max(storeys, 1)
-    if len(heights) != max(storeys, 1) or not all(_positive(h) for h in heights):
-        raise StudyError(source, "building.storey_height", building.get("storey_height"),
-                         f"a positive number [m] or a list of {max(storeys, 1)}")
-    configurations = _table(data, "configurations", source)
-    if not configurations or not all(isinstance(v, dict) for v in configurations.values()):
-        raise StudyError(source, "configurations", configurations, "one table [configurations.NAME] or more "
-                         "(FMU parameters on top of the building; mu = 0 for none)")
+    configurations = {name: dict(params) for name, params in data["configurations"].items()}
     for name, params in configurations.items():
         try:
             Params.from_variables(start_values({**building, **params}))
         except ValueError as err:
-            raise StudyError(source, f"configurations.{name}", params, str(err)) from None
-    intensity = _table(data, "intensity", source)
-    measure = intensity.get("measure", "Sa")
-    if measure not in MEASURES:
-        raise StudyError(source, "intensity.measure", measure, f"one of {', '.join(MEASURES)}")
-    levels = intensity.get("levels")
-    if not isinstance(levels, list) or len(levels) < 2 or not all(_positive(v) for v in levels) \
-            or sorted(levels) != levels:
-        raise StudyError(source, "intensity.levels", levels, "two or more ascending positive numbers")
-    zeta = intensity.get("zeta", 0.05)
-    if not _positive(zeta) or zeta >= 1:
-        raise StudyError(source, "intensity.zeta", zeta, "a damping ratio in (0, 1)")
-    states = _table(data, "damage_states", source) or dict(DAMAGE_STATES)
-    if not all(_positive(v) for v in states.values()):
-        raise StudyError(source, "damage_states", states, "NAME = a positive drift-ratio limit")
-    hazard = _table(data, "hazard", source)
+            raise _blame(err, source, building, name, params) from None
+    intensity = data["intensity"]
+    levels = intensity["levels"]
+    hazard = dict(data["hazard"])
     if "table" in hazard:
         table = folder / hazard["table"]
         if not table.is_file():
@@ -254,75 +219,67 @@ def parse(data, source="study", folder=Path("."), text=""):
                              "rate positive and decreasing (a hazard curve)")
     elif "points" in hazard:
         hazard.update(_hazard_points(hazard, source))
-    elif not (_positive(hazard.get("k0")) and _positive(hazard.get("k"))):
-        raise StudyError(source, "hazard", hazard, "k0 and k (> 0) of the power law k0 IM^-k, points = [[IM, rate], "
-                         "[IM, rate]] with their source, or table = CSV")
-    loss_spec = _losses(_table(data, "losses", source), source, folder)
-    run = _table(data, "run", source)
-    for key in run:
-        if key not in ("step", "bootstrap", "seed", "beta_m"):
-            raise StudyError(source, f"run.{key}", run[key], "the run fields are step, bootstrap, seed, beta_m")
-    beta_m = run.get("beta_m", 0.0)
-    if not (isinstance(beta_m, (int, float)) and not isinstance(beta_m, bool) and 0 <= beta_m < 2):
-        raise StudyError(source, "run.beta_m", beta_m, "a modelling dispersion in [0, 2) (FEMA P-695 Table 7-2: "
-                         "0.10 superior to 0.50 poor)")
-    p695_spec = _p695(_table(data, "p695", source), source)
-    ida_spec = _ida(_table(data, "ida", source), source, levels)
     study = Study(name=head.get("name", Path(source).stem), source=source, text=text, building=building,
-                  heights=[float(h) for h in heights], configurations=configurations,
-                  suite=_table(data, "suite", source), measure=measure, levels=[float(v) for v in levels],
-                  zeta=float(zeta), damage_states=states, hazard=hazard, step=run.get("step"),
-                  bootstrap=int(run.get("bootstrap", 500)), seed=int(run.get("seed", 0)),
-                  description=head.get("description", ""), scope=head.get("scope", ""), folder=folder, losses=loss_spec, beta_m=float(beta_m),
-                  p695=p695_spec, ida=ida_spec)
+                  heights=[float(h) for h in heights], configurations=configurations, suite=dict(data["suite"]),
+                  measure=intensity.get("measure", "Sa"), levels=[float(v) for v in levels],
+                  zeta=float(intensity.get("zeta", 0.05)),
+                  damage_states=dict(data.get("damage_states") or DAMAGE_STATES), hazard=hazard,
+                  step=run.get("step"), bootstrap=run.get("bootstrap", 500), seed=run.get("seed", 0),
+                  description=head.get("description", ""), scope=head.get("scope", ""), folder=folder,
+                  losses=_losses(data.get("losses"), source, folder), beta_m=float(run.get("beta_m", 0.0)),
+                  p695=_p695(data.get("p695")), ida=_ida(data.get("ida"), source, levels))
     try:
         study.records = ground_motion.suite(study.suite, folder)
     except (ValueError, OSError) as err:
         raise StudyError(source, "suite", study.suite, str(err)) from None
     if len(study.records) < 2:
         raise StudyError(source, "suite", study.suite, "two records or more")
+    shortest = min(r.dt * (len(r.accel) - 1) for r in study.records)
+    if study.step is not None and study.step >= shortest:
+        raise StudyError(source, "run.step", study.step, f"a communication step [s] shorter than the shortest "
+                         f"record ({shortest:g} s)")
     return study
+
+
+def _blame(err, source, building, name, params):
+    """The StudyError of the FMU's refusal (a ParameterError) of configuration `name` on the building:
+    the field that gave the refused value ([configurations.NAME] before [building]; a per-storey list's
+    item), or the configuration as a whole."""
+    refused = getattr(err, "name", None)
+    for table, label in ((params, f"configurations.{name}"), (building, "building")):
+        if refused in table:
+            return StudyError(source, f"{label}.{refused}", table[refused], err.allowed)
+        for alias, pattern in study_file.PER_STOREY.items():
+            for k in range(1, study_file.MAX_STOREYS + 1):
+                if refused == pattern.format(k) and alias in table:
+                    value = table[alias]
+                    if isinstance(value, list):
+                        return StudyError(source, f"{label}.{alias}[{k}]", value[k - 1], err.allowed)
+                    return StudyError(source, f"{label}.{alias}", value, err.allowed)
+    return StudyError(source, f"configurations.{name}", params, str(err))
 
 
 def _hazard_points(hazard, source):
     """k0, k of the power law through two cited (IM, annual rate) points."""
     points = hazard["points"]
-    if not (isinstance(points, list) and len(points) == 2 and all(isinstance(p, list) and len(p) == 2
-                                                                   and all(_positive(v) for v in p) for p in points)
-            and points[0][0] != points[1][0]):
-        raise StudyError(source, "hazard.points", points, "two [IM, annual rate] pairs of positive numbers at "
-                         "different intensities")
     (x1, r1), (x2, r2) = points
+    if x1 == x2:
+        raise StudyError(source, "hazard.points", points, "two [IM, annual rate] pairs at different intensities")
     if (x2 - x1) * (r2 - r1) >= 0:
         raise StudyError(source, "hazard.points", points, "a hazard curve that decreases: the higher intensity "
                          "with the lower rate")
-    if not isinstance(hazard.get("source"), str) or not hazard["source"].strip():
-        raise StudyError(source, "hazard.source", hazard.get("source"), "the citation of the two points (text)")
     k0, k = fragility.hazard_power_law_from_points(x1, r1, x2, r2)
     return {"k0": k0, "k": k}
 
 
 def _ida(spec, source, levels):
-    """The [ida] section checked ({} without one).  Stripes interpolated on the IDA curves need a hunt
-    that climbs past the top stripe within max_runs (a record that never collapses is traced that far)."""
+    """The [ida] table with its defaults ({} without one; its fields checked by study_file).  Stripes
+    interpolated on the IDA curves need a hunt that climbs past the top stripe within max_runs (a
+    record that never collapses is traced that far)."""
     if not spec:
         return {}
-    for key in spec:
-        if key not in IDA_FIELDS:
-            raise StudyError(source, f"ida.{key}", spec[key], f"the fields are {', '.join(IDA_FIELDS)}")
     out = {"tolerance": 0.05, "max_runs": 10, **spec}
-    for key in ("first", "step"):
-        if not _positive(out.get(key)):
-            raise StudyError(source, f"ida.{key}", out.get(key), IDA_FIELDS[key])
-    if "increment" in out and not (isinstance(out["increment"], (int, float)) and out["increment"] >= 0):
-        raise StudyError(source, "ida.increment", out["increment"], IDA_FIELDS["increment"])
-    if not (_positive(out["tolerance"]) and out["tolerance"] < 1):
-        raise StudyError(source, "ida.tolerance", out["tolerance"], IDA_FIELDS["tolerance"])
-    if not isinstance(out["max_runs"], int) or out["max_runs"] < 2:
-        raise StudyError(source, "ida.max_runs", out["max_runs"], IDA_FIELDS["max_runs"])
     out.setdefault("stripes", "interpolate")
-    if out["stripes"] not in ("interpolate", "run"):
-        raise StudyError(source, "ida.stripes", out["stripes"], IDA_FIELDS["stripes"])
     top = max(hunt_ladder(out))
     if out["stripes"] == "interpolate" and top < max(levels):
         raise StudyError(source, "ida.max_runs", out["max_runs"], f"a hunt that reaches the top stripe "
@@ -341,42 +298,20 @@ def hunt_ladder(spec):
     return seen
 
 
-def _p695(spec, source):
-    """The [p695] section checked ({} without one)."""
-    if not spec:
-        return {}
-    for key in spec:
-        if key not in P695_FIELDS:
-            raise StudyError(source, f"p695.{key}", spec[key], f"the fields are {', '.join(P695_FIELDS)}")
-    out = {"sdc": "dmax", "ratings": ["B", "B", "C"], "record_set": "farfield", **spec}
-    for key in ("sdc", "record_set"):
-        if out[key] not in P695_FIELDS[key]:
-            raise StudyError(source, f"p695.{key}", out[key], f"one of {', '.join(P695_FIELDS[key])}")
-    if not (isinstance(out["ratings"], list) and len(out["ratings"]) == 3 and all(r in "ABCD" and len(r) == 1
-                                                                                    for r in out["ratings"])):
-        raise StudyError(source, "p695.ratings", out["ratings"], P695_FIELDS["ratings"])
-    return out
+def _p695(spec):
+    """The [p695] table with its defaults ({} without one; its fields checked by study_file)."""
+    return {"sdc": "dmax", "ratings": ["B", "B", "C"], "record_set": "farfield", **spec} if spec else {}
 
 
 def _losses(spec, source, folder):
-    """The [losses] section checked ({} without one): components read (losses.read_components)."""
+    """The [losses] table with its defaults ({} without one; its fields checked by study_file), its
+    components read (losses.read_components)."""
     if not spec:
         return {}
-    for key in spec:
-        if key not in LOSS_FIELDS:
-            raise StudyError(source, f"losses.{key}", spec[key], f"the fields are {', '.join(LOSS_FIELDS)}")
     out = {"realizations": 50, "repair_days": [30.0, 180.0], **spec}
-    for key in ("floor_area", "replacement_cost", "replacement_days"):
-        if not _positive(out.get(key)):
-            raise StudyError(source, f"losses.{key}", out.get(key), LOSS_FIELDS[key])
-    if not isinstance(out["realizations"], int) or out["realizations"] < 1:
-        raise StudyError(source, "losses.realizations", out["realizations"], LOSS_FIELDS["realizations"])
-    days = out["repair_days"]
-    if not isinstance(days, list) or not days or not all(_positive(d) for d in days):
-        raise StudyError(source, "losses.repair_days", days, LOSS_FIELDS["repair_days"])
-    path = folder / str(out.get("components", ""))
-    if "components" not in out or not path.is_file():
-        raise StudyError(source, "losses.components", out.get("components"), f"{LOSS_FIELDS['components']} "
+    path = folder / out["components"]
+    if not path.is_file():
+        raise StudyError(source, "losses.components", out["components"], f"{LOSS_FIELDS['components']} "
                          f"(looked for {path})")
     from . import losses
     try:
@@ -384,17 +319,6 @@ def _losses(spec, source, folder):
     except (losses.ComponentError, losses.PelicunMissing) as err:
         raise StudyError(source, "losses.components", out["components"], str(err)) from None
     return out
-
-
-def _table(data, key, source):
-    value = data.get(key, {})
-    if not isinstance(value, dict):
-        raise StudyError(source, key, value, f"a table ([{key}])")
-    return dict(value)
-
-
-def _positive(value):
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value > 0
 
 
 # ---- runs ----------------------------------------------------------------------------------
@@ -483,6 +407,53 @@ def run_task(task, engine="fmu", path=None):
     return row
 
 
+class Journal(Table):
+    """runner.Table (the resume record) that also says how a stage of runs goes when stderr is not a
+    terminal (on a terminal tqdm's bar does): a line when the stage starts, at each tenth of its
+    tasks and when a configuration's tasks are all done, each with the tasks done and the total
+    (and for IDAs the FMU runs they made)."""
+
+    def __init__(self, path, columns, todo, stage, unit, report):
+        super().__init__(path, columns)
+        self.stage, self.unit, self.report, self.t0 = stage, unit, report, time.perf_counter()
+        self.left = {}
+        for t in todo:
+            if t["key"] not in self.done:
+                self.left[t["configuration"]] = self.left.get(t["configuration"], 0) + 1
+        self.total, self.count = len(todo), len(todo) - sum(self.left.values())
+        self.runs = sum(self._runs(row) for row in self.done.values())
+        self._say(f"{self.total - self.count} of {self.total} {unit} to run"
+                  + (f", {self.count} done before (in {self.path.name})" if self.count else ""))
+
+    @staticmethod
+    def _runs(row):
+        runs = row.get("runs")
+        return len(json.loads(runs) if isinstance(runs, str) else runs) if runs is not None else 1
+
+    def _say(self, text):
+        if self.report:
+            print(f"pidamper assess: {self.stage}: {text}", file=sys.stderr, flush=True)
+
+    def add(self, row):
+        super().add(row)
+        self.count += 1
+        self.runs += self._runs(row)
+        conf = row["configuration"]
+        self.left[conf] -= 1
+        done = (f"{self.count} of {self.total} {self.unit} done" + (f" ({self.runs} runs)" if self.unit != "runs"
+                                                                     else "")
+                + f", {time.perf_counter() - self.t0:.0f} s")
+        if not self.left[conf]:
+            self._say(f"configuration {conf} done; {done}")
+        elif self.count * 10 // self.total > (self.count - 1) * 10 // self.total:
+            self._say(done)
+
+
+def reporting(progress):
+    """Whether the stages report in lines: progress asked for and stderr not a terminal."""
+    return bool(progress) and not sys.stderr.isatty()
+
+
 IDA_COLUMNS = ("key", "record", "record_index", "configuration", "im_record", "capacity", "lo", "hi", "runs", "cpu_s")
 
 
@@ -536,7 +507,7 @@ def run_ida(study, out, engine="fmu", workers=None, dask=False, scheduler=None, 
     if engine != "fmu" or not study.storeys:
         raise StudyError(study.source, "ida", study.ida, "a building (storeys >= 1) run through its FMU (engine fmu)")
     todo = ida_tasks(study)
-    table = Table(Path(out) / "ida.csv", list(IDA_COLUMNS))
+    table = Journal(Path(out) / "ida.csv", list(IDA_COLUMNS), todo, "IDA", "IDAs", reporting(progress))
     path = str(find_fmu(fmu, storeys=study.storeys))
     run_table(run_ida_task, todo, [t["key"] for t in todo], table, engine, path, workers, dask, scheduler, progress,
               "ida", steps)
@@ -603,7 +574,7 @@ def run_study(study, out, engine="fmu", workers=None, dask=False, scheduler=None
     todo_all = tasks(study)
     columns = (["key", "record", "record_index", "level", "im_record", "factor", "configuration"] + list(DEMANDS)
                + list(RUN_FIELDS) + demands.names(study.storeys) + list(RECORD_META))
-    table = Table(Path(out) / "runs.csv", columns)
+    table = Journal(Path(out) / "runs.csv", columns, todo_all, "stripe runs", "runs", reporting(progress))
     path = str(find_fmu(fmu, storeys=study.storeys)) if engine == "fmu" else None
     run_table(run_task, todo_all, [t["key"] for t in todo_all], table, engine, path, workers, dask, scheduler,
               progress, "assess", steps)
@@ -737,18 +708,45 @@ def p695_lines(study, rows, out, collapse=None):
     return lines
 
 
+@dataclass
+class Assessment:
+    """What an assessment found: its study, the stripes' rows, the fits and risk rows (analysis), the
+    IDA traces (None without [ida])."""
+    study: Study
+    rows: list
+    fits: dict
+    risks: list
+    traces: list = None
+
+
 def assess(study_path, out="assessment", engine="fmu", workers=None, dask=False, scheduler=None, fmu=None,
            progress=True, command=None):
     """Run (or resume) a study and write OUT/README.md, figures and runs.parquet; returns the page's
     data (rows, fits, risk)."""
+    found = assessment(study_path, out, engine, workers, dask, scheduler, fmu, progress, command)
+    return found.rows, found.fits, found.risks
+
+
+def assessment(study_path, out="assessment", engine="fmu", workers=None, dask=False, scheduler=None, fmu=None,
+               progress=True, command=None):
+    """assess(), its Assessment returned; with `progress`, a line on stderr as each stage ends."""
     study = load(study_path)
+    for table, value in (("ida", study.ida), ("p695", study.p695), ("losses", study.losses)):
+        if value and engine != "fmu":
+            raise StudyError(study.source, "--engine", engine, f"[{table}] needs {study_file.BUILDING_ONLY[table]}")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     stages, extra, collapse, traces, margin_collapse = [], [], None, None, None
+
+    def stage(name, t0):
+        stages.append((name, time.perf_counter() - t0))
+        if progress:
+            print(f"pidamper assess: {name} finished, {stages[-1][1]:.0f} s", file=sys.stderr, flush=True)
+
     if study.ida:  # first: its curves may give the stripes
         t0 = time.perf_counter()
         traces = run_ida(study, out, engine, workers, dask, scheduler, fmu, progress)
-        stages.append(("IDA runs", time.perf_counter() - t0))
+        stage("IDA runs", t0)
         collapse = ida_collapse(study, traces)
         margin_collapse = ida_collapse(study, traces, collective="set" in study.suite)
         plot_ida_traces(study, traces, out / "ida-collapse.png")
@@ -758,13 +756,13 @@ def assess(study_path, out="assessment", engine="fmu", workers=None, dask=False,
     else:
         t0 = time.perf_counter()
         rows = run_study(study, out, engine, workers, dask, scheduler, fmu, progress)
-        stages.append(("stripe runs", time.perf_counter() - t0))
+        stage("stripe runs", t0)
     wall = sum(sec for _, sec in stages)
     write_parquet(rows, out / "runs.parquet")
     t0 = time.perf_counter()
     fits, risks = analyse(study, rows)
     intervals = risk_intervals(study, fits)
-    stages.append(("damage-state fits", time.perf_counter() - t0))
+    stage("damage-state fits", t0)
     command = command or "pidamper assess " + " ".join(shlex.quote(a) for a in [str(study_path), "--out", str(out)])
     losses = functools.partial(assess_losses, workers=workers or os.cpu_count())
     for name, part, wanted, given in (("collapse margin", p695_lines, study.p695, margin_collapse),
@@ -772,13 +770,26 @@ def assess(study_path, out="assessment", engine="fmu", workers=None, dask=False,
         if wanted:
             t0 = time.perf_counter()
             extra += part(study, rows, out, given)
-            stages.append((name, time.perf_counter() - t0))
+            stage(name, t0)
     t0 = time.perf_counter()
     write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, (), intervals, traces)
-    stages.append(("page", time.perf_counter() - t0))
+    stage("page", t0)
     write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, stages, intervals,
                traces)
-    return rows, fits, risks
+    return Assessment(study, rows, fits, risks, traces)
+
+
+def summary(found, out):
+    """The console's lines: what was run, as the page counts it (page.runs_text), and per damage
+    state each configuration's MAF and ratio to the first, or why there is none (the page's reason)."""
+    study, fits = found.study, found.fits
+    first = list(study.configurations)[0]
+    lines = [f"{runs_text(study, found.rows, found.traces)}; page {Path(out) / 'README.md'}"]
+    for state, values, ratios in found.risks:
+        lines.append(f"{state}: " + ", ".join(f"MAF {c} {maf_text(fits, state, c, v, '/yr')}"
+                                              for c, v in values.items())
+                     + "".join(f"; ratio {c} {ratio_text(fits, state, c, first, r)}" for c, r in ratios.items()))
+    return lines
 
 
 def main(argv=None):
@@ -788,13 +799,13 @@ def main(argv=None):
     parser.add_argument("--out", default="assessment", help="output folder (resumed if it holds runs.csv)")
     add_runner_arguments(parser)
     args = parser.parse_args(argv)
+    if args.workers is not None and args.workers < 1:
+        parser.error(f"argument --workers: {args.workers} is not allowed: at least 1 (processes or Dask workers; "
+                     "default one per core)")
     command = "pidamper assess " + " ".join(shlex.quote(a) for a in (argv if argv is not None else sys.argv[1:]))
-    rows, _, risks = assess(args.study, args.out, args.engine, args.workers, args.dask, args.scheduler, args.fmu,
-                            command=command)
-    print(f"{len(rows)} runs; page {Path(args.out) / 'README.md'}")
-    for state, values, ratios in risks:
-        print(f"{state}: " + ", ".join(f"MAF {c} {v:.3g}/yr" for c, v in values.items()) +
-              "".join(f"; ratio {c} {r:.3g}" for c, r in ratios.items()))
+    found = assessment(args.study, args.out, args.engine, args.workers, args.dask, args.scheduler, args.fmu,
+                       command=command)
+    print("\n".join(summary(found, args.out)))
     return 0
 
 

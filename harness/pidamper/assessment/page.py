@@ -86,18 +86,47 @@ def _scaling_text(study, traces):
     return "each record scaled by its own intensity to each level"
 
 
-def _runs_text(study, rows, traces):
-    """What was run, and its CPU per run."""
+def _interpolated(study, traces):
+    return traces is not None and study.ida["stripes"] == "interpolate"
+
+
+def runs_text(study, rows, traces):
+    """What was run, counted once for the page and the console: every IDA run, and every stripe run
+    unless the stripes were read off the IDA curves."""
     confs = len(study.configurations)
-    if traces is not None and study.ida["stripes"] == "interpolate":
-        runs = sum(len(r["runs"]) for r in traces)
+    stripes = f"{len(study.records)} records x {len(study.levels)} levels x {confs} configurations"
+    if traces is None:
+        return f"{len(rows)} runs ({stripes})"
+    ida = sum(len(r["runs"]) for r in traces)
+    of = f"IDA of {len(study.records)} records x {confs} configurations"
+    if _interpolated(study, traces):
+        return f"{ida} runs ({of}; the {len(rows)} stripe demands interpolated on the IDA curves)"
+    return f"{ida + len(rows)} runs ({ida} in the {of}, {len(rows)} at the stripes: {stripes})"
+
+
+def _runs_text(study, rows, traces):
+    """What was run (runs_text), and its CPU per run."""
+    if _interpolated(study, traces):
         cpu = np.array([r["cpu_s"] for r in traces]) / np.array([len(r["runs"]) for r in traces])
-        return (f"{runs} runs (IDA of {len(study.records)} records x {confs} configurations; the {len(rows)} stripe "
-                f"demands interpolated on the IDA curves), {cpu.mean():.2f} s CPU per run (median per record "
+        return (f"{runs_text(study, rows, traces)}, {cpu.mean():.2f} s CPU per run (median per record "
                 f"{np.median(cpu):.2f} s)")
     cpu = np.array([r["cpu_s"] for r in rows])
-    return (f"{len(rows)} runs ({len(study.records)} records x {len(study.levels)} levels x {confs} "
-            f"configurations), {cpu.mean():.2f} s CPU per run (median {np.median(cpu):.2f} s)")
+    per = "stripe run" if traces is not None else "run"
+    return f"{runs_text(study, rows, traces)}, {cpu.mean():.2f} s CPU per {per} (median {np.median(cpu):.2f} s)"
+
+
+def maf_text(fits, state, conf, value, unit=""):
+    """A configuration's mean annual frequency of a damage state, or why it has none (NO_FIT)."""
+    fit = fits[conf][state]
+    if fit.fit is None:
+        return f"none (no fit: {NO_FIT.get(fit.failed, fit.failed)})"
+    return f"{value:.3g}{unit}"
+
+
+def ratio_text(fits, state, conf, first, value):
+    """A configuration's MAF over the first's, or why there is none."""
+    missing = [c for c in dict.fromkeys((first, conf)) if fits[c][state].fit is None]
+    return f"none (no fit for {' and '.join(missing)})" if missing else f"{value:.3g}"
 
 
 def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), stages=(), intervals=None,
@@ -139,8 +168,10 @@ def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), 
               " | ".join(f"ratio {c} / {confs[0]}" for c in confs[1:]) + " |",
               "|---|" + "---:|" * (2 * len(confs) - 1)]
     for state, values, ratios in risks:
-        lines.append(f"| {state} | " + " | ".join(f"{values[c]:.3g}" for c in confs) + " | " +
-                     " | ".join(f"**{ratios[c]:.3g}**" for c in confs[1:]) + " |")
+        ratio = {c: ratio_text(fits, state, c, confs[0], ratios[c]) for c in confs[1:]}
+        lines.append(f"| {state} | " + " | ".join(maf_text(fits, state, c, values[c]) for c in confs) + " | " +
+                     " | ".join(ratio[c] if ratio[c].startswith("none") else f"**{ratio[c]}**" for c in confs[1:])
+                     + " |")
     if intervals and any(intervals.values()):
         lines += ["", f"Ratios with 90 % intervals (paired bootstrap over records, {study.bootstrap} resamples, "
                   "both configurations refitted on each draw):", "",
