@@ -1,8 +1,11 @@
-"""ShearBuilding<N> (N = 1..10): a linear shear building alone, exact for held inputs (a thin
-adapter over pidamper_physics.shear_motion.ShearMotion; conventions of adapter.py / slave.py).
+"""ShearBuilding<N> (N = 1..10): a shear building alone, exact for held inputs (a thin adapter over
+pidamper_physics.yielding.building_motion: ShearMotion, or YieldingMotion when a storey can yield;
+conventions of adapter.py / slave.py).
 
 Parameters floor[k].m, storey[k].k, storey[k].h (k = 1..N), zeta_s (classical modal damping: every
-mode at this ratio).  Inputs a_g (ground acceleration), F[k] (force on floor k), and for an
+mode at this ratio), the storeys' yielding, P-Delta and collapse, and drift_limit (storey_tables.py:
+a collapse and a drift ratio beyond drift_limit are warned about through the FMI logger, as in
+DampedShearBuilding<N>).  Inputs a_g (ground acceleration), F[k] (force on floor k), and for an
 impulse-aware host J[k], t_J[k]: an impulse J[k] on floor k at time t_J[k] inside the coming step
 (ignored when J[k] = 0; a t_J[k] outside the step is clamped into it: a host that passes it a step
 late, such as a Jacobi master, has it applied at the step's start).  Outputs floor[k].x, floor[k].v
@@ -23,12 +26,13 @@ from pythonfmu import Real
 from pythonfmu.default_experiment import DefaultExperiment
 
 from pidamper_physics.params import FLOOR_MASS, MAX_STOREYS, STOREY_HEIGHT, STOREY_STIFFNESS
-from pidamper_physics.shear_motion import ShearMotion, make_building
-from pidamper_physics.storeys import GRAVITY, check_damping, check_storeys
-from pidamper_physics.yielding import YieldingMotion
+from pidamper_physics.shear_motion import ShearMotion
+from pidamper_physics.storeys import GRAVITY
+from pidamper_physics.yielding import building_motion
 
 from .adapter import ComponentSlave
-from .storey_tables import yielding_outputs, yielding_parameters
+from .common import Refusal
+from .storey_tables import drift_monitor, yielding_outputs, yielding_parameters
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
@@ -100,6 +104,7 @@ class ShearBuildingSlave(ComponentSlave):
         super().__init__(**kwargs)
         self.guid = uuid.uuid5(uuid.NAMESPACE_URL, f"pidamper/{type(self).__name__}/" + SOURCE_HASH)
         n = self.STOREYS
+        self._drift = None  # the DriftMonitor of drift_limit, made with the core
         self._names = ([f"F[{k}]" for k in range(1, n + 1)], [f"J[{k}]" for k in range(1, n + 1)],
                        [f"t_J[{k}]" for k in range(1, n + 1)])
 
@@ -107,18 +112,28 @@ class ShearBuildingSlave(ComponentSlave):
         values, n = self._values, self.STOREYS
         m, k, h, fy, b = ([values[pattern.format(i)] for i in range(1, n + 1)] for pattern in
                           ("floor[{}].m", "storey[{}].k", "storey[{}].h", "storey[{}].Fy", "storey[{}].b"))
-        make_building(m, k, values["zeta_s"], h)  # the elastic building's own checks first
-        law = check_storeys(k, fy, b, h, m, values["p_delta"], values["g"], values["collapse_drift"])
-        building = make_building(m, k, values["zeta_s"], h, law.geometric)
-        if not law.any_yield:
-            return ShearMotion(building, t0=self._t0)
-        check_damping(law, values["zeta_s"])
-        core = YieldingMotion(building, law, values["collapse_drift"], t0=self._t0)
-        core.on_collapse = self._collapsed
+        core = building_motion(m, k, h, values["zeta_s"], fy, b, values["p_delta"], values["g"],
+                               values["collapse_drift"], t0=self._t0)
+        self._drift = drift_monitor(values["drift_limit"])
+        if not isinstance(core, ShearMotion):  # yielding storeys: they may collapse
+            core.on_collapse = self._collapsed
         return core
 
-    def _collapsed(self, t, storey, reason):
-        self._warn(f"collapsed at t = {t!r} s: {reason}; every output holds its value from then")
+    def _get_fmu_state(self):
+        state = super()._get_fmu_state()
+        if state is not None:  # the drift warning, once per run
+            state["_drift_warned"] = self._drift is not None and self._drift.warned
+        return state
+
+    def _restore(self, state):
+        if isinstance(state, dict):
+            state = dict(state)
+            warned = state.pop("_drift_warned", None)
+            if type(warned) is not bool:
+                raise Refusal(f"FMU state _drift_warned = {warned!r} is not allowed: true or false")
+        super()._restore(state)
+        if self._initialized and self._drift is not None:
+            self._drift.warned = warned
 
     def _forces(self):
         values = self._values
@@ -129,6 +144,10 @@ class ShearBuildingSlave(ComponentSlave):
         names_j, names_t = self._names[1], self._names[2]
         impulses = [(values[names_t[k]], k, values[names_j[k]]) for k in range(core.n) if values[names_j[k]] != 0.0]
         core.advance(t_end, self._forces(), values["a_g"], impulses)
+        if self._drift is not None:
+            warning = self._drift.check(core.t, core.peaks)
+            if warning:
+                self._warn(warning)
 
     def _computed(self, core):
         x, v = core.floors()

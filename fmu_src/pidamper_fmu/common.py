@@ -126,6 +126,11 @@ class FmiEntry:
         """Log a warning through the FMI logger (the run goes on)."""
         self.log(fmi_text(f"{self.instance_name}: {text}", self._native), Fmi2Status.warning)
 
+    def _collapsed(self, t, reason):
+        """The core's collapse callback (a yielding building, either family): warn, naming the
+        storey and the time (in `reason`); the core holds the state from then."""
+        self._warn(f"the building collapsed at t = {t!r} s: {reason}; every output holds its value from then")
+
     def _core_now(self):
         if self._core is None:
             try:

@@ -58,6 +58,8 @@ _BUILDING_PARAMETERS = {
                        "(the same: the particle always hangs from its moving floor)"),
     "zeta_s": (0.0, 1.0, "damping ratio of every mode of the building (classical modal damping; fidelity >= 1; < 1)"),
     "alpha_0": (None, None, "initial particle angle (the building starts at rest)"),
+    "angle_limit": (0.0, None, "the particle's swing beyond which the linear (small-angle) model warns, once per run "
+                               "(0.4 rad: its frequency is then 1 % off; 0 = never); the floors: drift_limit"),
 }
 
 # name, type, unit, description, direct feedthrough from F.  The outputs are the component's

@@ -37,6 +37,7 @@ from pidamper_physics.params import NONLINEAR, check_finite, check_restitution
 
 from .common import FmiEntry, Refusal, describe, guarded, long_contact
 from .particle_tables import DERIVED, IMPACT_REALS, IMPACT_SLOTS, INPUTS, OUTPUTS, RECORD, START, tables
+from .storey_tables import drift_monitor
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
@@ -47,7 +48,7 @@ NR = len(IMPACT_REALS)
 # them): the outputs, and the record, each have consecutive value references, so one pack fills each
 _PACK_RECORD = struct.Struct(f"={len(RECORD)}d")
 _ZERO_RECORD = (0.0,) * (NR * IMPACT_SLOTS) + (0,) * (2 * IMPACT_SLOTS)  # reals, sides, plastic flags
-_STATE_EXTRA = ("F", "a_g", "_t0", "_initialized", "_core", "_in_step", "_record", "_monitor", "_held")
+_STATE_EXTRA = ("F", "a_g", "_t0", "_initialized", "_core", "_in_step", "_record", "_monitor", "_drift_warned", "_held")
 
 
 class ParticleSlave(FmiEntry, Fmi2Slave):
@@ -92,6 +93,7 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
             self._register_computed(name, kind, causality, self._output_getter(k))
         self._record_values = list(_ZERO_RECORD)  # slot-major Real fields, then the sides and plastic flags
         self._held = None  # a collapsed building's outputs, held
+        self._drift = None  # a building's DriftMonitor (drift_limit), made with the core
         self._in_step = 0
         self._record_in_buffer = True  # the buffer may hold a non-zero record: write it at the next push
         for k, (name, kind, *_) in enumerate(RECORD):
@@ -220,6 +222,7 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
             raise ParameterError("angle_limit", limit, "it must be finite and >= 0 (0 turns the warning off)")
         small_angles = params.fidelity != NONLINEAR  # the nonlinear level has no small-angle limit
         self._monitor = SmallAngleMonitor(params, limit) if limit > 0.0 and small_angles else None
+        self._drift = drift_monitor(self.drift_limit) if self.STOREYS else None
         return core
 
     # ---- FMI calls ------------------------------------------------------------------
@@ -250,6 +253,10 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
             warning = monitor.check(core)
             if warning:
                 self._warn(warning)
+        if self._drift is not None:
+            warning = self._drift.check(core.t, core.model.peaks)
+            if warning:
+                self._warn(warning)
         if self._native:
             self._push(core)
 
@@ -269,9 +276,6 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         if summary:
             self._warn(summary)
 
-    def _collapsed(self, t, reason):
-        self._warn(f"the building collapsed at t = {t!r} s: {reason}; every output holds its value from then")
-
     # ---- FMU state ------------------------------------------------------------------
 
     @guarded(lambda args: None)
@@ -286,6 +290,7 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         state["_record"] = list(self._record_values)
         monitor = self._monitor if self._initialized else None
         state["_monitor"] = None if monitor is None else monitor.get_state()
+        state["_drift_warned"] = self._initialized and self._drift is not None and self._drift.warned
         state["_held"] = None if self._held is None else list(self._held)  # a collapsed building's outputs
         return state
 
@@ -303,6 +308,8 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
                           f"{len(_ZERO_RECORD)} numbers and an integer >= 0")
         for k, value in enumerate(record):
             check_finite(f"FMU state _record[{k}]", value)
+        if type(state["_drift_warned"]) is not bool:
+            raise Refusal(f"FMU state _drift_warned = {state['_drift_warned']!r} is not allowed: true or false")
         held = state["_held"]
         if held is not None:
             if not isinstance(held, list) or len(held) != len(self.COMPUTED):
@@ -333,6 +340,8 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
                 self._monitor.set_state([bool(monitor[0])] + [float(v) for v in bars])
             if held is not None:  # the outputs a collapsed building holds, as they were at its collapse
                 self._held = tuple(held)
+            if self._drift is not None:
+                self._drift.warned = state["_drift_warned"]
 
     # ---- modelDescription -----------------------------------------------------------
 

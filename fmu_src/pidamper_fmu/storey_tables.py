@@ -1,9 +1,13 @@
-"""The yielding storeys' variables every building FMU has (DampedShearBuilding<N> and
-ShearBuilding<N>): parameters storey[k].Fy, storey[k].b, p_delta, collapse_drift; outputs
-storey[k].force, storey[k].plastic_drift, energy_hysteretic, collapsed (pidamper_physics.storeys).
+"""The storeys' variables every building FMU has (DampedShearBuilding<N> and ShearBuilding<N>):
+parameters storey[k].Fy, storey[k].b, p_delta, collapse_drift (pidamper_physics.storeys) and
+drift_limit (pidamper_physics.validity.DriftMonitor); outputs storey[k].force,
+storey[k].plastic_drift, energy_hysteretic, collapsed.
 """
+import math
+
 from pythonfmu import Integer, Real
 
+from pidamper_physics import DriftMonitor, ParameterError
 from pidamper_physics.storeys import COLLAPSE_DRIFT, HARDENING
 
 
@@ -18,7 +22,16 @@ def yielding_parameters(n):
             + [("p_delta", Integer, 0, None, 0, 1, "P-Delta: 0 off, 1 on (geometric stiffness -P_k / h_k of the "
                 "gravity load above each storey, the particle's on its floor included)"),
                ("collapse_drift", Real, COLLAPSE_DRIFT, "1", 0.0, 1.0, "storey drift ratio at which a yielding "
-                "building counts as collapsed, (0, 1]: every output holds from then")])
+                "building counts as collapsed, (0, 1]: every output holds from then"),
+               ("drift_limit", Real, DriftMonitor.DEFAULT_LIMIT, "1", 0.0, None, "storey drift ratio beyond which "
+                "the FMU warns, once per run, that the shear building describes no real one (0 = never)")])
+
+
+def drift_monitor(limit):
+    """The DriftMonitor of a building FMU's drift_limit (None for 0), once it is checked."""
+    if not (math.isfinite(limit) and limit >= 0.0):
+        raise ParameterError("drift_limit", limit, "it must be finite and >= 0 (0 turns the warning off)")
+    return DriftMonitor(limit) if limit > 0.0 else None
 
 
 def yielding_outputs(n):

@@ -8,7 +8,7 @@ from .damper import FREE, OUTSIDE, STICK, Damper
 from .impact import collide, impact_loss
 from .oscillator import Oscillator
 from .params import ANGLE, DEFAULTS, DISPLACEMENT, INITIAL_DEFAULTS, ParameterError, Params
-from .validity import SmallAngleMonitor, frequency_error
+from .validity import DriftMonitor, SmallAngleMonitor, frequency_error
 
 __all__ = ["ANGLE", "DEFAULTS", "DISPLACEMENT", "INITIAL_DEFAULTS", "FREE", "OUTSIDE", "STICK", "Damper", "Oscillator",
-           "ParameterError", "Params", "SmallAngleMonitor", "collide", "frequency_error", "impact_loss"]
+           "ParameterError", "Params", "DriftMonitor", "SmallAngleMonitor", "collide", "frequency_error", "impact_loss"]

@@ -61,6 +61,11 @@ class ShearBuilding:
         return self.omegas[0]
 
     @property
+    def spread(self):
+        """w_n / w_1: the fastest natural frequency over the first."""
+        return max(self.omegas) / min(self.omegas)
+
+    @property
     def total_mass(self):
         return sum(self.masses)
 

@@ -348,6 +348,12 @@ def inverse_rows(V, rows):
     return [lu_solve(factors, [1.0 if r == k else 0.0 for r in range(n)]) for k in rows]
 
 
+#: eigenvalue of a^T a, relative to its largest, at or below which a direction is null: the
+#: rounding floor of the product a^T a (a few ulps of its largest entry), where an exactly
+#: singular a leaves its zero eigenvalues (seen: 1.2e-16 for a 4-storey mechanism of rank 2)
+NULL_LEVEL = 1e-13
+
+
 def null_space(a, r):
     """r orthonormal real vectors spanning the null space of the square matrix a (those of the r
     smallest eigenvalues of a^T a, by jacobi_eigh), or None if a has no null space of dimension r."""
@@ -355,6 +361,6 @@ def null_space(a, r):
     ata = [[sum(a[k][i] * a[k][j] for k in range(n)) for j in range(n)] for i in range(n)]
     lams, vec = jacobi_eigh(ata)
     top = max(abs(x) for x in lams) or 1.0
-    if r > n or any(lams[k] > 1e-20 * top for k in range(r)):
+    if r > n or any(lams[k] > NULL_LEVEL * top for k in range(r)):
         return None
     return [[vec[i][k] for i in range(n)] for k in range(r)]

@@ -105,11 +105,14 @@ def locate(seg, tau_end, fresh=False):
     for _ in range(MAX_PASSES):
         step = _INF
         near = -1
+        others = None  # the guards next to zero besides `near` (two surfaces closer than rounding)
         n0 = base0 * (1.0 + growth * tau)  # rounding level of the guards at tau
         values = seg.values(tau)
         for i in range(0, len(values), 2):
             g = values[i]
             if g <= n0:
+                if near >= 0:
+                    others = [near] if others is None else others + [near]
                 near = i >> 1
                 continue
             g1 = values[i + 1]  # safe_step(g, g1, b2), inlined: this is the innermost loop
@@ -129,25 +132,38 @@ def locate(seg, tau_end, fresh=False):
                 continue
             near = min(range(len(values) // 2), key=lambda i: values[2 * i])  # zero within one ulp of tau
             step = _INF
-        g, g1, g2, g3 = seg.derivs(tau, near)
         scale = 1.0 + growth * tau
-        n1, n2, n3 = base[1] * scale, base[2] * scale, base[3] * scale
-        vres = resolution_speed(g2, n0, n1, n2)
-        order, dk = classify(g1, g2, g3, vres, n2, n3)
-        if not (fresh and tau == 0.0):
-            if g < -n0:
-                return tau, TOUCH, near  # already past zero: a jump of the guard at a step start
-            if order == 1 and dk < 0.0:
-                return min(_newton(seg, near, tau, g, g1), tau_end), CROSS, near
-            if dk < 0.0:
-                return tau, TOUCH, near
-        # departing, flat, or a contradiction right after a switch: step away
-        step = min(step, departure_step(order, dk, vres, seg.bounds))
+        found = None
+        for i in ([near] if others is None else others + [near]):
+            hit, away = _near_zero(seg, i, tau, tau_end, n0, base, scale, fresh)
+            if hit is not None and (found is None or hit[0] < found[0]):
+                found = hit
+            step = min(step, away)
+        if found is not None:
+            return found
         tau = max(tau + step, next_up(tau))
         if tau >= tau_end:
             return None
     raise ParameterError("step", tau_end, f"locating the next contact took more than {MAX_PASSES} passes (a guard "
                          f"hovering just above its rounding level {seg.noise[0]!r}): take shorter steps")
+
+
+def _near_zero(seg, i, tau, tau_end, n0, base, scale, fresh):
+    """Classify guard i next to zero at tau: ((tau, kind, i), _) if it crosses or is pressed to
+    zero there (never at tau = 0 right after a switch), else (None, a departure step)."""
+    g, g1, g2, g3 = seg.derivs(tau, i)
+    n1, n2, n3 = base[1] * scale, base[2] * scale, base[3] * scale
+    vres = resolution_speed(g2, n0, n1, n2)
+    order, dk = classify(g1, g2, g3, vres, n2, n3)
+    if not (fresh and tau == 0.0):
+        if g < -n0:
+            return (tau, TOUCH, i), 0.0  # already past zero: a jump of the guard at a step start
+        if order == 1 and dk < 0.0:
+            return (min(_newton(seg, i, tau, g, g1), tau_end), CROSS, i), 0.0
+        if dk < 0.0:
+            return (tau, TOUCH, i), 0.0
+    # departing, flat, or a contradiction right after a switch: step away
+    return None, departure_step(order, dk, vres, seg.bounds)
 
 
 def _newton(seg, i, tau, g, g1):

@@ -21,7 +21,7 @@ import math
 
 from .building import ShearBuilding
 from .impact import MATERIAL_DEFAULTS, MATERIAL_NAMES, check_contact
-from .refusals import ParameterError, check_finite
+from .refusals import SCALE_RANGE, ParameterError, check_finite
 from .storeys import COLLAPSE_DRIFT, HARDENING, check_damping, check_storeys
 
 DISPLACEMENT = 0
@@ -47,9 +47,6 @@ STOREY_HEIGHT = 3.0
 INITIAL_DEFAULTS = {"theta_0": 0.0, "theta_dot_0": 0.5, "alpha_0": 0.0, "alpha_dot_0": 0.0}
 
 
-#: smallest and largest magnitude of a length [m], mass [kg], frequency [rad/s] or load per mass
-#: [m/s2] the model accepts: their squares and pairwise products stay normal floats
-SCALE_RANGE = (1e-150, 1e150)
 
 
 #: least 1 - zeta^2 of a dashpot: the eigenvalues -zeta w +- i w sqrt(1 - zeta^2) of its mode stay
@@ -156,7 +153,7 @@ class Params:
             self.building = check_building(self.floor_m[:n], self.storey_k[:n], self.zeta_s, self.storey_h[:n],
                                            law.geometric)
         if law.any_yield:
-            check_damping(law, self.zeta_s if self.fidelity else 0.0)
+            check_damping(law, self.zeta_s if self.fidelity else 0.0, self.building.spread)
             self.law = law
         self.w2 = self.building.w_1
         self.w1 = self.FR * self.w2

@@ -1,6 +1,10 @@
 """The refusal every check of the physics raises, and the finiteness check they all start with."""
 import math
 
+#: smallest and largest magnitude of a length [m], mass [kg], frequency [rad/s] or load per mass
+#: [m/s2] the model accepts: their squares and pairwise products stay normal floats
+SCALE_RANGE = (1e-150, 1e150)
+
 
 class ParameterError(ValueError):
     """A parameter or input outside its allowed range; names the value and the rule."""

@@ -49,14 +49,18 @@ class ShearMotion:
             raise ParameterError("x0, v0", (x0, v0), f"they need {n} entries, one per floor")
         self.t = check_finite("start time", t0)
         self.modes = [DampedOscillator(w, building.zeta) for w in building.omegas]
-        phi, m = building.shapes, building.masses
-        # modal projections q = Phi^T M x
-        self.q = [sum(phi[k][r] * m[k] * x0[k] for k in range(n)) for r in range(n)]
-        self.qd = [sum(phi[k][r] * m[k] * v0[k] for k in range(n)) for r in range(n)]
+        self.set_floors(x0, v0)
         self.peaks = Peaks(building.heights)
         self.work_in = 0.0  # work of the held loads (relative frame) and the impulses [J]; the
         # dashpots took E(0) + work_in - E (nothing else dissipates)
         self.energy0 = self.energy()
+
+    def set_floors(self, x, v):
+        """Set the state to floor displacements x [m] and velocities v [m/s] (relative to the
+        ground): the modal projections q = Phi^T M x, q' = Phi^T M x'."""
+        phi, m, n = self.b.shapes, self.b.masses, self.n
+        self.q = [sum(phi[k][r] * m[k] * x[k] for k in range(n)) for r in range(n)]
+        self.qd = [sum(phi[k][r] * m[k] * v[k] for k in range(n)) for r in range(n)]
 
     # ---- floor values ------------------------------------------------------------------
 
@@ -105,6 +109,39 @@ class ShearMotion:
         self.t = t_end
         # the held loads' work: sum_k f_k dx_k = sum_r (Phi^T f)_r dq_r
         self.work_in += sum(p * (b - a) for p, a, b in zip(loads, q0, self.q))
+
+    def drift_reach(self, t_end, forces, ground=0.0, impulses=()):
+        """Per storey a bound of |drift| [m] over the step that advance(t_end, forces, ground,
+        impulses) would take, and the bound of |x| that rounds it (its scale).
+
+        About the held load's equilibrium q_e = p / w^2 each mode swings as exp(-s tau)
+        (a cos + b sin), so |q - q_e| <= A = hypot(a, b) and |q'| <= A w for all tau >= 0; an
+        impulse J on floor k raises A by at most |Phi_kr J| / w_d.  A drift is then bounded
+        by its equilibrium plus its modes' swings, or by its start plus the step times its rate."""
+        b, n = self.b, self.n
+        phi, m = b.shapes, b.masses
+        T = t_end - self.t
+        centre, swing = [], []
+        for r, mode in enumerate(self.modes):
+            p = sum(phi[k][r] * (forces[k] - m[k] * ground) for k in range(n))
+            a = self.q[r] - p / mode.ww
+            amp = math.hypot(a, (self.qd[r] + mode.s * a) / mode.wd)
+            for _, k, j in impulses:
+                amp += abs(phi[k][r] * j) / mode.wd
+            centre.append(p / mode.ww)
+            swing.append(amp)
+        x0, _ = self.floors()
+        out, scale = [], 0.0
+        for k in range(n):
+            below = phi[k - 1] if k else None
+            shape = [phi[k][r] - (below[r] if k else 0.0) for r in range(n)]
+            middle = abs(sum(s * c for s, c in zip(shape, centre)))
+            spread = sum(abs(s) * a for s, a in zip(shape, swing))
+            rate = sum(abs(s) * a * mode.w for s, a, mode in zip(shape, swing, self.modes))
+            start = abs(x0[k] - (x0[k - 1] if k else 0.0))
+            out.append(min(middle + spread, start + T * rate))
+            scale = max(scale, sum(abs(phi[k][r]) * (abs(centre[r]) + swing[r]) for r in range(n)))
+        return out, scale
 
     def _free(self, tau, loads, ground):
         """Move the modes over a piece of tau [s] under the modal loads, raising the running maxima

@@ -16,7 +16,8 @@ P-Delta adds the geometric stiffness -P / h to every regime's kt (P the gravity 
 carries, h its height): `b k - P / h < 0` is a negative tangent.  Fy = 0 is an elastic storey.
 Plain Python (math): this ships inside the FMU.
 """
-from .refusals import ParameterError, check_finite
+from .modal import SECULAR
+from .refusals import SCALE_RANGE, ParameterError, check_finite
 
 ELASTIC = 0
 #: default post-yield stiffness ratio, and the drift ratio at which a yielding building collapses
@@ -28,15 +29,23 @@ __all__ = ["Storeys", "check_storeys", "check_damping", "gravity_loads", "ELASTI
 GRAVITY = 9.81
 
 
+#: a yielding tangent b k - P/h within FLAT k of zero is zero: the modes cannot tell a mechanism
+#: that stiff from one of no stiffness at all (its eigenvalue is below the secular level)
+FLAT = 1e-8
+
+
 class Storeys:
     """The storey laws of an N-storey building: stiffnesses k [N/m], yield forces Fy [N] (0:
-    elastic), hardening ratios b, geometric stiffnesses P/h [N/m] (0 without P-Delta)."""
+    elastic), hardening ratios b, geometric stiffnesses P/h [N/m] (0 without P-Delta).  A storey
+    whose yielding tangent b k - P/h lies within FLAT k of zero is `flat`: its b is taken as P/(h k),
+    its yielding tangent as exactly 0."""
 
     def __init__(self, stiffnesses, yield_forces, ratios, geometric):
         self.k = list(stiffnesses)
         self.Fy = list(yield_forces)
-        self.b = list(ratios)
         self.geometric = list(geometric)
+        self.flat = [abs(b * k - g) <= FLAT * k for b, k, g in zip(ratios, self.k, self.geometric)]
+        self.b = [g / k if flat else b for b, k, g, flat in zip(ratios, self.k, self.geometric, self.flat)]
         self.n = len(self.k)
         #: elastic range of the EPP spring: |delta - delta_p| <= Fy / k
         self.reach = [fy / k for fy, k in zip(self.Fy, self.k)]
@@ -48,8 +57,9 @@ class Storeys:
 
     def tangent(self, i, s):
         """kt of storey i in regime s [N/m] (the geometric stiffness included)."""
-        k = self.k[i] if s == ELASTIC else self.b[i] * self.k[i]
-        return k - self.geometric[i]
+        if s == ELASTIC:
+            return self.k[i] - self.geometric[i]
+        return 0.0 if self.flat[i] else self.b[i] * self.k[i] - self.geometric[i]
 
     def offset(self, i, s, dp):
         """c of storey i in regime s with plastic drift dp [N]."""
@@ -88,6 +98,11 @@ def check_storeys(stiffnesses, yield_forces, ratios, heights, masses, p_delta, g
         fy = check_finite(f"storey[{k + 1}].Fy", yield_forces[k])
         if fy < 0.0:
             raise ParameterError(f"storey[{k + 1}].Fy", fy, "it must be >= 0 (0 = an elastic storey)")
+        reach, (lo, hi) = fy / stiffnesses[k], SCALE_RANGE
+        if fy and not lo <= reach <= hi:
+            raise ParameterError(f"storey[{k + 1}].Fy", fy, f"its yield drift Fy/k = {reach!r} m (storey[{k + 1}].k = "
+                                 f"{stiffnesses[k]!r} N/m) must lie in {lo:g} to {hi:g} m, where float arithmetic "
+                                 "holds its squares and products (0 = an elastic storey)")
         b = check_finite(f"storey[{k + 1}].b", ratios[k])
         if not 0.0 <= b < 1.0:
             raise ParameterError(f"storey[{k + 1}].b", b, "it must lie in [0, 1) (0 = elastic-perfectly-plastic)")
@@ -112,14 +127,20 @@ def check_storeys(stiffnesses, yield_forces, ratios, heights, masses, p_delta, g
     return Storeys(stiffnesses, yield_forces, ratios, geometric)
 
 
-def check_damping(storeys, zeta):
-    """Refuse a zero-tangent yielding storey without damping: its regime has no modes."""
-    if zeta > 0.0:
+def check_damping(storeys, zeta, spread=1.0):
+    """Refuse a yielding storey of (nearly) zero tangent whose damping the modes cannot resolve:
+    its yielding regime's mechanism would have a double zero eigenvalue and no modes.  The
+    mechanism's own eigenvalue is at least 2 zeta w_1, and must stand clear of the secular level
+    SECULAR w_n of the fastest mode (modal.py): zeta_s >= 50 SECULAR w_n / w_1, `spread` = w_n / w_1
+    of the elastic building."""
+    least = 50.0 * SECULAR * spread
+    if zeta >= least:
         return
     for i in range(storeys.n):
-        if storeys.yields[i] and abs(storeys.tangent(i, 1)) <= 1e-9 * storeys.k[i]:
+        if storeys.yields[i] and storeys.flat[i]:
             raise ParameterError(f"storey[{i + 1}].b", storeys.b[i], "a yielding storey of zero tangent stiffness "
-                                 "(b k - P/h = 0) needs damping: set zeta_s > 0 or b > 0")
+                                 f"(b k - P/h = 0) needs damping the modes can resolve: set zeta_s >= {least:.3g} "
+                                 f"(now {zeta!r}) or b > 0")
 
 
 YIELD, UNLOAD, COLLAPSE = 0, 1, 2  # the kinds of a storey guard
@@ -229,8 +250,7 @@ class Hysteresis:
             self.dp[i] = drifts[i] - self.regime[i] * self.law.reach[i]
             self.regime[i] = ELASTIC
         else:
-            return self.collapse(t, f"storey {i + 1} reached the drift ratio collapse_drift = {self.theta_c!r} "
-                                    f"at t = {t!r} s")
+            return self.collapse(t, f"storey {i + 1} reached the drift ratio collapse_drift = {self.theta_c!r}")
         return None
 
     def collapse(self, t, reason):

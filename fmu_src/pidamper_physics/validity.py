@@ -60,9 +60,8 @@ class SmallAngleMonitor:
         if self.warned:
             return None
         self.warned = True
-        primary = math.sqrt(sx) / self.p.L2
-        particle = math.sqrt(sy) / self.p.L1 if self.p.mu > 0.0 else 0.0
-        body, swing = ("primary (theta)", primary) if primary >= particle else ("particle (alpha)", particle)
+        primary, particle = self._swings(sx, sy)
+        body, swing = ("primary (theta)", primary) if primary > particle else ("particle (alpha)", particle)
         return (f"t = {damper.t:.6g} s: the {body} swings {swing:.3g} rad, beyond the small-angle limit "
                 f"{self.limit:g} rad of the linear model; {_effect(swing)}. Warned once per run; the largest "
                 "swings follow at the end of the run.")
@@ -74,11 +73,17 @@ class SmallAngleMonitor:
     def set_state(self, state):
         self.warned, self._x2, self._y2 = state
 
+    def _swings(self, sx, sy):
+        """(primary, particle) swings [rad] of the squared envelopes; a building's floors are
+        no pendulum (0), nor is a particle without mass."""
+        primary = math.sqrt(sx) / self.p.L2 if not self.p.storeys else 0.0
+        return primary, (math.sqrt(sy) / self.p.L1 if self.p.mu > 0.0 else 0.0)
+
     def largest(self):
         """(primary, particle) largest swings [rad] seen since the limit was first exceeded
-        (a body that never exceeded it reports the limit; a particle without mass 0)."""
-        primary = math.sqrt(self._x2) / self.p.L2 if self._x2 < math.inf else 0.0  # a building: not watched
-        return primary, (math.sqrt(self._y2) / self.p.L1 if self.p.mu > 0.0 else 0.0)
+        (a body that never exceeded it reports the limit; a particle without mass, or a
+        building's floors, 0)."""
+        return self._swings(self._x2, self._y2 if self._y2 < math.inf else 0.0)
 
     def summary(self):
         """The closing text of a run that left the small-angle range, else None."""
@@ -87,9 +92,38 @@ class SmallAngleMonitor:
         primary, particle = self.largest()
         swing = max(primary, particle)
         within = "within the limit"
-        return (f"largest swings of the run: primary {within if primary <= self.limit else f'{primary:.3g} rad'}, "
-                f"particle {within if particle <= self.limit else f'{particle:.3g} rad'} (limit {self.limit:g} rad); "
+        bodies = [] if self.p.storeys else [f"primary {within if primary <= self.limit else f'{primary:.3g} rad'}"]
+        bodies.append(f"particle {within if particle <= self.limit else f'{particle:.3g} rad'}")
+        return (f"largest swings of the run: {', '.join(bodies)} (limit {self.limit:g} rad); "
                 f"at {swing:.3g} rad {_effect(swing)}.")
+
+
+class DriftMonitor:
+    """Watches a building's largest storey drift ratio (the running maxima peaks.Peaks locates
+    exactly) for one beyond `limit` [1] (> 0): there a shear building describes no real building
+    (storeys collapse by drift ratios of about 0.1, and its geometry is that of small rotations).
+    Warns once per run; a comparison per storey and step, no allocation."""
+
+    DEFAULT_LIMIT = 0.2  # twice the drift ratio at which a yielding building counts as collapsed
+
+    def __init__(self, limit=DEFAULT_LIMIT):
+        self.limit = limit
+        self.warned = False
+
+    def check(self, t, peaks):
+        """A warning text the first time a storey's largest drift ratio exceeds the limit, else None."""
+        if self.warned:
+            return None
+        drift, limit = peaks.drift, self.limit
+        for k in range(peaks.n):
+            if drift[k] > limit:
+                self.warned = True
+                h = 1.0 / peaks.inv_h[k]
+                return (f"t = {t:.6g} s: storey {k + 1}'s drift ratio reached {drift[k]:.3g} (a drift of "
+                        f"{drift[k] * h:.3g} m over its {h:g} m), beyond drift_limit = {limit:g}: no real storey "
+                        "stands there and the shear building's small-rotation geometry no longer holds, so the "
+                        "motion from here is the model's only. Warned once per run.")
+        return None
 
 
 def _effect(swing):

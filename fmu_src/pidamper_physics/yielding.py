@@ -34,8 +34,25 @@ from .modal import Modes, ModesError, Motion
 from .peaks import Peaks
 from .refusals import ParameterError, check_finite, check_step
 from .segments import TOLERANCE
+from .shear_motion import ShearMotion, make_building
 from .stepping import MAX_PIECES
-from .storeys import Hysteresis
+from .storeys import Hysteresis, check_damping, check_storeys
+
+
+def building_motion(masses, stiffnesses, heights, zeta, yield_forces, ratios, p_delta=0, g=9.81,
+                    collapse_drift=0.1, t0=0.0):
+    """The motion of a bare shear building, its parameters checked (a ParameterError names the
+    value and the rule): ShearMotion if no storey can yield, else YieldingMotion.  Floors [kg],
+    storeys' stiffnesses [N/m], heights [m], yield forces [N] (0 elastic) and hardening ratios
+    storey 1 first; zeta: every elastic mode's damping ratio; p_delta 0/1 with gravity g [m/s2];
+    collapse_drift: the drift ratio at which a yielding building collapses."""
+    make_building(masses, stiffnesses, zeta, heights)  # the elastic building's own checks first
+    law = check_storeys(stiffnesses, yield_forces, ratios, heights, masses, p_delta, g, collapse_drift)
+    building = make_building(masses, stiffnesses, zeta, heights, law.geometric)
+    if not law.any_yield:
+        return ShearMotion(building, t0=t0)
+    check_damping(law, zeta, building.spread)
+    return YieldingMotion(building, law, collapse_drift, t0=t0)
 
 
 class YieldingMotion:
@@ -59,6 +76,10 @@ class YieldingMotion:
         self.peaks = Peaks(building.heights)
         self._systems = {}  # regime -> Modes, or the reason it has none
         self._c = [[c / m for c in row] for row, m in zip(building.C, building.masses)]
+        # the elastic building, stepped while no storey has yielded and none can reach a limit in
+        # the step: its state is then this motion's (the modal one of ShearMotion)
+        self.track = ShearMotion(building, t0=self.t)
+        self.track.peaks = self.peaks
         self.energy0 = self.energy()
         self.pieces = 0
         self.on_collapse = None  # optional callback(t, reason)
@@ -83,6 +104,8 @@ class YieldingMotion:
 
     def storey_forces(self):
         """The bilinear springs' forces [N] (P-Delta and dashpots not included), storey 1 first."""
+        if self.track is not None:  # elastic: the elastic building's k delta
+            return [k * d for k, d in zip(self.b.stiffnesses, self.drifts())]
         return self.storeys.forces(self.drifts())
 
     def plastic_drifts(self):
@@ -99,6 +122,8 @@ class YieldingMotion:
         """x_k'' + a_g [m/s2] of every floor under the forces [N] (held from the collapse instant)."""
         if self.frozen is not None:
             return list(self.frozen[0])
+        if self.track is not None:
+            return self.track.absolute_accelerations(forces, self.x, self.v)
         return [(f - r) / m for f, r, m in zip(forces, self._restoring(), self.b.masses)]
 
     def base_shear(self):
@@ -106,12 +131,16 @@ class YieldingMotion:
         dashpots' forces (held from the collapse instant)."""
         if self.frozen is not None:
             return self.frozen[1]
+        if self.track is not None:
+            return self.b.base_shear(self.x, self.v)
         return sum(self._restoring())
 
     def energy(self, x=None, v=None):
         """Kinetic and strain energy [J] (relative motion; P-Delta potential included)."""
         x = self.x if x is None else x
         v = self.v if v is None else v
+        if self.track is not None:  # elastic: the elastic building's energy
+            return self.b.energy(x, v)
         kin = 0.5 * sum(m * u * u for m, u in zip(self.b.masses, v))
         return kin + self.storeys.strain(self.drifts(x))
 
@@ -119,14 +148,56 @@ class YieldingMotion:
 
     def advance(self, t_end, forces, ground=0.0, impulses=()):
         """Move to t_end [s] under the held floor forces [N] and ground acceleration [m/s2];
-        `impulses`: (time, floor index 0..N-1, J [N s]), clamped into [t, t_end]."""
+        `impulses`: (time, floor index 0..N-1, J [N s]), clamped into [t, t_end].
+
+        While no storey has yielded the building is the elastic one, and steps as it
+        (ShearMotion, `track`): at once when no storey can reach a limit in the step
+        (ShearMotion.drift_reach), else after a trial by regimes found no event in it.  So a
+        building whose storeys never reach their yield forces moves bit for bit as the elastic
+        building, whatever its yield forces are."""
         check_step(self.t, t_end, forces, ground)
         self.pieces = 0
-        kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0)
-        for t_k, k, j in kicks:
+        kicks = [(t, k, j) for t, k, j in impulses if j != 0.0]
+        if self.track is None:
+            self._by_regimes(t_end, forces, ground, kicks)
+        elif not self._clear(t_end, forces, ground, kicks):
+            trial, events = self.get_state(), self.storeys.events
+            self.track = None
+            self._by_regimes(t_end, forces, ground, kicks)
+            if self.storeys.events == events:  # nothing happened: the step is the elastic building's
+                self.set_state(trial)
+                self._elastic(t_end, forces, ground, kicks)
+        else:
+            self._elastic(t_end, forces, ground, kicks)
+
+    def _by_regimes(self, t_end, forces, ground, kicks):
+        for t_k, k, j in sorted((min(max(t, self.t), t_end), k, j) for t, k, j in kicks):
             self._run(t_k, forces, ground)
             self._kick(k, j)
         self._run(t_end, forces, ground)
+
+    def _clear(self, t_end, forces, ground, kicks):
+        """Whether every storey provably stays inside its yield and collapse limits over the
+        step (ShearMotion.drift_reach, with the rounding of its scale)."""
+        law, theta_c, heights = self.storeys.law, self.storeys.theta_c, self.b.heights
+        reach, scale = self.track.drift_reach(t_end, forces, ground, kicks)
+        slack = TOLERANCE * scale
+        for i, bound in enumerate(reach):
+            limit = min(theta_c * heights[i], law.reach[i]) if law.yields[i] else theta_c * heights[i]
+            if not bound + TOLERANCE * bound + slack < limit:
+                return False
+        return True
+
+    def _elastic(self, t_end, forces, ground, kicks):
+        """The step as the elastic building (the track), its work and dashpot energy booked."""
+        track = self.track
+        e0, w0 = self.energy(), track.work_in
+        track.advance(t_end, forces, ground, kicks)
+        self.t = t_end
+        self.x, self.v = track.floors()
+        work = track.work_in - w0
+        self.work_in += work
+        self.viscous += work - (self.energy() - e0)
 
     def _run(self, t_stop, forces, ground):
         while self.t < t_stop:
@@ -211,13 +282,15 @@ class YieldingMotion:
 
     # ---- state ----------------------------------------------------------------------------
 
-    _KEYS = ("t", "x", "v", "fresh", "work_in", "viscous", "frozen", "peaks", "storeys")
+    _KEYS = ("t", "x", "v", "fresh", "work_in", "viscous", "frozen", "peaks", "storeys", "track")
 
     def get_state(self):
+        track = self.track
         return {"t": self.t, "x": list(self.x), "v": list(self.v), "fresh": self.fresh, "work_in": self.work_in,
                 "viscous": self.viscous, "frozen": None if self.frozen is None else [list(self.frozen[0]),
                                                                                      self.frozen[1]],
-                "peaks": self.peaks.get_state(), "storeys": self.storeys.get_state()}
+                "peaks": self.peaks.get_state(), "storeys": self.storeys.get_state(),
+                "track": None if track is None else [list(track.q), list(track.qd)]}
 
     def set_state(self, state):
         if not isinstance(state, dict) or set(state) != set(self._KEYS):
@@ -241,11 +314,35 @@ class YieldingMotion:
         self.x, self.v = [float(u) for u in state["x"]], [float(u) for u in state["v"]]
         self.fresh = bool(state["fresh"])
         self.frozen = None if frozen is None else ([float(a) for a in frozen[0]], float(frozen[1]))
+        self._set_track(state["track"])
+
+    def _set_track(self, modal):
+        """The elastic track from get_state's [q, q'] (None: off it); a state whose storeys have
+        yielded is off it, and one whose floors are not the track's takes them (projected)."""
+        n, storeys = self.n, self.storeys
+        if modal is None or storeys.collapsed or any(storeys.regime) or any(storeys.dp):
+            self.track = None
+            return
+        if not (isinstance(modal, list) and len(modal) == 2 and all(isinstance(c, list) and len(c) == n
+                                                                     for c in modal)):
+            raise ParameterError("state track", modal, f"None or [q, q'] ({n} modal coordinates each)")
+        track = self.track = ShearMotion(self.b, t0=self.t)
+        track.peaks = self.peaks
+        track.q = [check_finite(f"state track q[{r}]", u) for r, u in enumerate(modal[0])]
+        track.qd = [check_finite(f"state track qd[{r}]", u) for r, u in enumerate(modal[1])]
+        if list(track.floors()) != [self.x, self.v]:
+            track.set_floors(self.x, self.v)
 
 
 class StoreyGuards:
     """The storeys' guards (storeys.Hysteresis.guards) over one piece, in events.py's protocol:
-    each linear in its storey's drift delta, g = const + coef delta^(order), in metres."""
+    each linear in its storey's drift delta, g = const + coef delta^(order), in metres.
+
+    Only the guards that may reach zero over [0, T] are kept (`guards`): one whose least value
+    there (Taylor from the start) stays above its own rounding level cannot fire, and is left out
+    so that its scale (a yield drift of kilometres) sets neither the rounding level nor the steps
+    of the others.  A storey that never comes near its yield surface is then located, and moves,
+    exactly as an elastic one."""
 
     reach = math.inf
     __slots__ = ("motion", "guards", "bounds", "noise", "growth", "clear", "n")
@@ -253,28 +350,33 @@ class StoreyGuards:
     def __init__(self, storeys, motion, T):
         self.motion = motion
         self.n = n = storeys.n
-        self.guards = guards = storeys.guards()
         modes = motion.modes
+        growth = modes.fastest
         bd = motion.bounds(T, 6, weighted=modes.weighted_drifts(n))
         start = self._drifts(0.0, 5)
-        b2 = b3 = b4 = n0 = 0.0
-        noise = [0.0, 0.0, 0.0]
-        least = math.inf  # the least value any guard may reach over [0, T] (Taylor from the start)
-        for i, order, coef, const, _ in guards:
+        b2 = b3 = b4 = n0 = n1 = n2 = n3 = 0.0
+        kept = []
+        for guard in storeys.guards():
+            i, order, coef, const, _ = guard
             c, di, bi = abs(coef), start[i], bd[i]
+            own = TOLERANCE * (abs(const) + c * (abs(di[order]) + T * bi[order + 1]))  # its rounding level
+            least = const + coef * di[order] - T * min(c * bi[order + 1],
+                                                       abs(coef * di[order + 1]) + T * c * bi[order + 2])
+            if least > own * (1.0 + growth * T):
+                continue  # cannot reach zero on [0, T]
+            kept.append(guard)
             b2 = max(b2, c * bi[order + 2])
             b3 = max(b3, c * bi[order + 3])
             b4 = max(b4, c * bi[order + 4])
-            n0 = max(n0, abs(const) + c * (abs(di[order]) + T * bi[order + 1]))
-            for j in (1, 2):
-                noise[j - 1] = max(noise[j - 1], c * (bi[order + j] + abs(di[order + j])))
-            noise[2] = max(noise[2], c * bi[order + 3])
-            g0 = const + coef * di[order]
-            least = min(least, g0 - T * min(c * bi[order + 1], abs(coef * di[order + 1]) + T * c * bi[order + 2]))
+            n0 = max(n0, own)
+            n1 = max(n1, c * (bi[order + 1] + abs(di[order + 1])))
+            n2 = max(n2, c * (bi[order + 2] + abs(di[order + 2])))
+            n3 = max(n3, c * bi[order + 3])
+        self.guards = kept
         self.bounds = (b2, b3, b4)
-        self.noise = (TOLERANCE * n0, TOLERANCE * noise[0], TOLERANCE * noise[1], TOLERANCE * noise[2])
-        self.growth = modes.fastest
-        self.clear = least > self.noise[0] * (1.0 + self.growth * T)
+        self.noise = (n0, TOLERANCE * n1, TOLERANCE * n2, TOLERANCE * n3)
+        self.growth = growth if kept else 0.0
+        self.clear = not kept
 
     def _drifts(self, tau, orders):
         """Per storey [delta, delta', ..., delta^(orders - 1)] at tau."""
@@ -287,6 +389,8 @@ class StoreyGuards:
         return out
 
     def values(self, tau):
+        if not self.guards:
+            return []
         d = self._drifts(tau, 3)
         out = []
         for i, order, coef, const, _ in self.guards:
