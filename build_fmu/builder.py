@@ -3,6 +3,7 @@ package, then call pythonfmu."""
 import hashlib
 import re
 import shutil
+import sys
 import tempfile
 import uuid
 from pathlib import Path
@@ -33,20 +34,27 @@ def adapter_files(model=MODEL_NAME):
     return [slave.with_name(name) for name in _FILES[family(model)[0]]]
 
 
-def _physics_files(physics_dir):
-    return sorted(p for p in physics_dir.rglob("*.py") if "__pycache__" not in p.parts)
-
-
 def source_hash(model=MODEL_NAME):
-    """12 hex digits of SHA-256 over `model`'s name, its shipped sources and the pythonfmu version."""
+    """12 hex digits of SHA-256 over `model`'s name, its adapter and native sources, its physics
+    package's name (compile.fmu_tag: the physics sources and, compiled, the compile settings) and
+    the pythonfmu version."""
     import pythonfmu
+
+    from .compile import fmu_tag  # (not at import: `python -m build_fmu.compile` runs that module)
 
     slave, physics = sources()
     digest = hashlib.sha256(pythonfmu.__version__.encode() + SHIM.encode() + model.encode() + b"\0")
-    for path in adapter_files(model) + [native_source()] + _physics_files(physics):
-        rel = path.name if path.parent == slave.parent else path.relative_to(physics).as_posix()
-        digest.update(rel.encode() + b"\0" + path.read_bytes() + b"\0")
+    for path in adapter_files(model) + [native_source()]:
+        digest.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    digest.update(f"{PHYSICS}_{fmu_tag(physics)}".encode())
     return digest.hexdigest()[:12]
+
+
+def _forget(package):
+    """Drop `package` and its submodules from sys.modules (every model's FMU ships the physics
+    under one name, from its own temporary folder)."""
+    for key in [k for k in sys.modules if k == package or k.startswith(package + ".")]:
+        del sys.modules[key]
 
 
 def version_of(*modules):
@@ -95,21 +103,25 @@ def _build(model, out_dir, write_docs):
     from pythonfmu.builder import FmuBuilder
 
     from . import native
+    from .compile import fmu_physics, shipped
 
     _, physics = sources()
     files = adapter_files(model)
     tag = source_hash(model)
+    compiled, name, _ = fmu_physics(physics)  # the physics under the FMU's own name, compiled where it can be
     with tempfile.TemporaryDirectory(prefix="pidamper_build_") as tmp:
         tmp = Path(tmp)
-        package = tmp / f"{PHYSICS}_{tag}"
-        shutil.copytree(physics, package, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+        package = tmp / name
+        package.mkdir()
+        for path in shipped(compiled):  # sources, typing files, the manifest and extension modules
+            shutil.copy2(path, package / path.name)
         adapter = tmp / f"{ADAPTER}_{tag}"
         adapter.mkdir()
         (adapter / "__init__.py").write_text(f'"""The FMI adapter of {model} (built by build_fmu)."""\n')
         hashes = 0
         for path in files:
             text = path.read_text()
-            text, n_imports = re.subn(rf"\b{PHYSICS}\b", f"{PHYSICS}_{tag}", text)
+            text, n_imports = re.subn(rf"\b{PHYSICS}\b", name, text)
             text, n_hash = re.subn(r'^SOURCE_HASH = "development".*$', f'SOURCE_HASH = "{tag}"', text, flags=re.M)
             hashes += n_hash
             if n_imports == 0 or n_hash > 1:
@@ -120,6 +132,7 @@ def _build(model, out_dir, write_docs):
         script = tmp / f"{model}_{tag}.py"
         script.write_text(SHIM.format(adapter=f"{ADAPTER}_{tag}", module=files[-1].stem, model=model))
         docs = write_docs(tmp / "documentation")
+        _forget(name)  # pythonfmu imports the script here: not the physics of an earlier model's folder
         fmu = FmuBuilder.build_FMU(
             script, dest=out_dir / f"{model}.fmu", project_files=[package, adapter],
             documentation_folder=docs,

@@ -1,12 +1,14 @@
-"""Step cost of the physics core, merge-base against this tree (issue 22, item 8).
+"""Step cost of the physics core, merge-base against this tree (issue 22, item 8), each build.
 
     python tools/speed_compare.py --base REV [--runs 5] [--steps 20000] [--case NAME ...]
 
 Each case steps `Damper.advance` over fixed communication steps of 0.01 s, as fmi2DoStep does, and
 reads the outputs the FMU reads every step (observables; a building's floor outputs too).  A run is
-one fresh process importing `pidamper_physics` from one tree; the two trees' runs alternate
-(base, new, base, new, ...) and each figure is the median of `--runs` runs of process CPU time per
-step.  Prints the machine and a table: case, base us/step, new us/step, new/base.
+one fresh process importing `pidamper_physics` from one tree: the base tree as it runs there, this
+tree's plain Python (PIDAMPER_PURE=1) and, when it is compiled (python -m build_fmu.compile), its
+compiled build.  The runs alternate (base, plain, compiled, base, ...) and each figure is the median
+of `--runs` runs of process CPU time per step.  Prints the machine and a table: case, base us/step,
+this tree's plain and compiled us/step and their ratios to the base.
 """
 import argparse
 import os
@@ -56,11 +58,19 @@ print((time.process_time() - t0) / steps * 1e6, d.impacts)
 """
 
 
-def one_run(tree, case, steps):
-    env = dict(os.environ, PYTHONPATH=str(Path(tree) / "fmu_src"))
+def one_run(tree, case, steps, pure="0"):
+    env = dict(os.environ, PYTHONPATH=str(Path(tree) / "fmu_src"), PIDAMPER_PURE=pure)
     out = subprocess.run([sys.executable, "-c", RUNNER.format(case=CASES[case]), str(steps)], env=env,
                          capture_output=True, text=True, check=True).stdout.split()
     return float(out[0]), int(out[1])
+
+
+def compiled_here():
+    """Whether this tree's physics runs compiled (its build, as a fresh process sees it)."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "fmu_src"), PIDAMPER_PURE="0")
+    said = subprocess.run([sys.executable, "-c", "import pidamper_physics as p; print(p.BUILD)"], env=env,
+                          capture_output=True, text=True, check=True).stdout
+    return said.startswith("compiled")
 
 
 def main(argv=None):
@@ -74,18 +84,22 @@ def main(argv=None):
         base = Path(tmp) / "base"
         subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(base), args.base], check=True)
         try:
+            builds = [("base", base, "1"), ("plain", ROOT, "1")] + ([("compiled", ROOT, "0")] if compiled_here() else [])
             print(f"Machine: {describe()}; {args.steps} steps of 0.01 s, median of {args.runs} interleaved runs, "
                   "process CPU time\n")
-            print("| case | base us/step | new us/step | new / base | impacts |\n|---|---:|---:|---:|---:|")
+            heads = [f"{label} us/step" for label, _, _ in builds] + [f"{label} / base" for label, _, _ in builds[1:]]
+            print("| case | " + " | ".join(heads) + " | impacts |\n|---|" + "---:|" * (len(heads) + 1))
             for case in args.case or CASES:
-                old, new = [], []
+                runs = {label: [] for label, _, _ in builds}
                 for _ in range(args.runs):
-                    old.append(one_run(base, case, args.steps))
-                    new.append(one_run(ROOT, case, args.steps))
-                if {i for _, i in old} != {i for _, i in new}:
-                    raise SystemExit(f"{case}: the trees disagree on the impacts: {old} {new}")
-                mo, mn = statistics.median(c for c, _ in old), statistics.median(c for c, _ in new)
-                print(f"| {case} | {mo:.2f} | {mn:.2f} | {mn / mo:.3f} | {old[0][1]} |", flush=True)
+                    for label, tree, pure in builds:
+                        runs[label].append(one_run(tree, case, args.steps, pure))
+                if len({i for label in runs for _, i in runs[label]}) != 1:
+                    raise SystemExit(f"{case}: the builds disagree on the impacts: {runs}")
+                cost = {label: statistics.median(c for c, _ in rows) for label, rows in runs.items()}
+                cells = [f"{cost[label]:.2f}" for label, _, _ in builds]
+                cells += [f"{cost[label] / cost['base']:.3f}" for label, _, _ in builds[1:]]
+                print(f"| {case} | " + " | ".join(cells) + f" | {runs['base'][0][1]} |", flush=True)
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=True)
 

@@ -19,7 +19,7 @@ from xml.etree.ElementTree import Element, SubElement
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.enums import Fmi2Status
 
-from pidamper_physics import ParameterError
+from pidamper_physics import BUILD, ParameterError
 
 UNITS = {"s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "m": {"m": 1}, "m/s2": {"m": 1, "s": -2}, "kg": {"kg": 1}, "1": {},
          "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "N": {"kg": 1, "m": 1, "s": -2},
@@ -181,6 +181,7 @@ class FmiEntry:
         self._core = None
         self._core_now()
         self._initialized = True
+        self.log(fmi_text(f"{self.instance_name}: physics {BUILD}", self._native), Fmi2Status.ok)
 
     def do_step(self, current_time, step_size):
         try:

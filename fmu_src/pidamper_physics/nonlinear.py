@@ -129,7 +129,8 @@ class NonlinearFlight(_Step):
         return self.D - z, -dz, self.D + z, dz
 
     def derivs(self, tau, i):
-        g, g1 = self.values(tau)[2 * i:2 * i + 2]
+        values = self.values(tau)
+        g, g1 = values[2 * i], values[2 * i + 1]
         _, _, g2, g3 = poly_derivs(self.gpoly[i], min(tau / self.h, 1.0), self.h)
         return g, g1, g2, g3
 

@@ -55,10 +55,11 @@ class FmuError(RuntimeError):
 
 
 class FmuMessages:
-    """fmpy logger callback that keeps the model's messages (it logs only problems: a warning
-    when a run leaves its model's validity, the reason of a failure)."""
+    """fmpy logger callback that keeps the model's messages: problems (a warning when a run leaves
+    its model's validity, the reason of a failure) and, at fmi2OK, which build of the physics
+    runs, which text() leaves out."""
 
-    WARNING = 1  # fmi2Warning
+    OK, WARNING = 0, 1  # fmi2OK, fmi2Warning
 
     def __init__(self):
         self.messages = []  # (fmi2Status, text)
@@ -69,7 +70,7 @@ class FmuMessages:
 
     def text(self):
         """The messages; a pythonfmu fatal-error report is reduced to the model's own words."""
-        return " | ".join(_model_words(m) for _, m in self.messages)
+        return " | ".join(_model_words(m) for status, m in self.messages if status != self.OK)
 
     def warnings(self):
         return [text for status, text in self.messages if status == self.WARNING]
