@@ -33,8 +33,10 @@ from .locations import PHYSICS, sources
 
 #: modules that stay Python: the package's entry and the build selector itself
 PLAIN = ("__init__", "_build")
-#: C flags: optimised, and floating point exactly as the plain build computes it
-CFLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-strict-aliasing"]
+#: C flags: optimised, and floating point exactly as the plain build computes it; Cython's own complex
+#: type, not C99's (whose x + y*I loses a real part of -0.0; Cython's is CPython's arithmetic, mixed
+#: real and complex operands included)
+CFLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-strict-aliasing", "-DCYTHON_CCOMPLEX=0"]
 #: Cython's directives (Python semantics kept: division by zero raises, indices are checked)
 DIRECTIVES = {"language_level": 3, "binding": False, "embedsignature": False}
 ROOT = Path(__file__).resolve().parent.parent
@@ -97,8 +99,11 @@ def compile_package(folder, package, quiet=True):
         cmd = dist.get_command_obj("build_ext")
         cmd.inplace, cmd.parallel = True, os.cpu_count() or 1
         cmd.build_temp, cmd.build_lib = str(work / "temp"), str(work / "lib")
+        stamp = work / "settings.txt"  # the C is recompiled when the flags changed, not only the sources
+        cmd.force = not stamp.is_file() or stamp.read_text() != settings()
         cmd.ensure_finalized()
         cmd.run()
+        stamp.write_text(settings())
     finally:
         os.chdir(cwd)
     select = selector(folder)

@@ -44,6 +44,11 @@ def pendulum_cases():
             cases.append((f"building-{n}-level{level}", dict(storeys=n, fidelity=level, mu=0.03, FR=1.0, d=0.01 if n > 1 else 0.002,
                                                                **z),
                           (0.0, 0.0, 0.0, 0.0), 600, None, lambda t: 3.0 * math.sin(6.0 * t) * math.exp(-0.2 * t)))
+    yielding = dict(storeys=3, floor_m=[1e5] * 3, storey_k=[8e7] * 3, fidelity=1, p_delta=1,
+                    storey_Fy=[8e5, 7e5, 5e5], storey_b=[0.02] * 3, mu=0.05, FR=0.95, d=0.02, e=0.5)
+    for zeta in (0.02, 0.1):  # storeys that yield and unload, with P-Delta, the damper impacting
+        cases.append((f"yielding-3-zeta{zeta}", dict(yielding, zeta_s=zeta), (0.0, 0.0, 0.0, 0.0), 600, None,
+                      lambda t: 4.0 * math.sin(6.0 * t) * math.exp(-0.2 * t)))
     return cases
 
 

@@ -6,9 +6,10 @@ Each case steps `Damper.advance` over fixed communication steps of 0.01 s, as fm
 reads the outputs the FMU reads every step (observables; a building's floor outputs too).  A run is
 one fresh process importing `pidamper_physics` from one tree: the base tree as it runs there, this
 tree's plain Python (PIDAMPER_PURE=1) and, when it is compiled (python -m build_fmu.compile), its
-compiled build.  The runs alternate (base, plain, compiled, base, ...) and each figure is the median
-of `--runs` runs of process CPU time per step.  Prints the machine and a table: case, base us/step,
-this tree's plain and compiled us/step and their ratios to the base.
+compiled build, and the base's compiled build too where the base can compile (it is compiled in its
+worktree first).  The runs alternate (base, base compiled, plain, compiled, base, ...) and each
+figure is the median of `--runs` runs of process CPU time per step.  Prints the machine and a table:
+case, each build's us/step, and this tree's plain and compiled builds over the base's like build.
 """
 import argparse
 import os
@@ -84,10 +85,18 @@ def main(argv=None):
         base = Path(tmp) / "base"
         subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(base), args.base], check=True)
         try:
-            builds = [("base", base, "1"), ("plain", ROOT, "1")] + ([("compiled", ROOT, "0")] if compiled_here() else [])
+            builds = [("base", base, "1")]
+            if (base / "build_fmu" / "compile.py").is_file() and compiled_here():  # the base's compiled build too
+                subprocess.run([sys.executable, "-m", "build_fmu.compile"], cwd=base, check=True, capture_output=True,
+                               env=dict(os.environ, PYTHONPATH=str(base)))
+                builds.append(("base compiled", base, "0"))
+            builds += [("plain", ROOT, "1")] + ([("compiled", ROOT, "0")] if compiled_here() else [])
+            # each of this tree's builds against the base's like build (the plain one if the base has no other)
+            ratios = [(label, "base compiled" if label == "compiled" and len(builds) == 4 else "base")
+                      for label, _, _ in builds if not label.startswith("base")]
             print(f"Machine: {describe()}; {args.steps} steps of 0.01 s, median of {args.runs} interleaved runs, "
                   "process CPU time\n")
-            heads = [f"{label} us/step" for label, _, _ in builds] + [f"{label} / base" for label, _, _ in builds[1:]]
+            heads = [f"{label} us/step" for label, _, _ in builds] + [f"{label} / {old}" for label, old in ratios]
             print("| case | " + " | ".join(heads) + " | impacts |\n|---|" + "---:|" * (len(heads) + 1))
             for case in args.case or CASES:
                 runs = {label: [] for label, _, _ in builds}
@@ -98,7 +107,7 @@ def main(argv=None):
                     raise SystemExit(f"{case}: the builds disagree on the impacts: {runs}")
                 cost = {label: statistics.median(c for c, _ in rows) for label, rows in runs.items()}
                 cells = [f"{cost[label]:.2f}" for label, _, _ in builds]
-                cells += [f"{cost[label] / cost['base']:.3f}" for label, _, _ in builds[1:]]
+                cells += [f"{cost[label] / cost[old]:.3f}" for label, old in ratios]
                 print(f"| {case} | " + " | ".join(cells) + f" | {runs['base'][0][1]} |", flush=True)
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=True)

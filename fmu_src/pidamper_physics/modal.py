@@ -21,7 +21,6 @@ Plain Python (math, cmath): this runs inside the FMU.
 """
 import cmath
 import math
-from operator import mul
 
 from . import eigen
 
@@ -206,37 +205,38 @@ class Motion:
         self.eta0, self.coef, self.const, self.gp, self.gm, self.gamma = [], [], [], [], [], []
         self.secular = secular = modes.secular
         eip = cmath.exp(1j * psi)
-        for lam, w in zip(modes.lam, modes.W):
-            eta0 = sum(w[i] * z0[i] for i in range(2 * n))
-            beta = sum(w[n + i] * b[i] for i in range(n))
-            c = beta / lam if lam else 0j
+        lams = modes.lam
+        for k in range(len(lams)):
+            w = modes.W[k]
+            eta0 = _dot(w, z0, 0, 2 * n)
+            c = _quot(_dot(w, b, n, n), lams[k]) if lams[k] else 0j  # beta / lam
             self.eta0.append(eta0)
             self.coef.append(eta0 + c)
             self.const.append(-c)
             if self.forced:
-                gamma = sum(w[n + i] * f[i] for i in range(n))
+                gamma = _dot(w, f, n, n)
                 self.gamma.append(gamma)
-                self.gp.append(gamma * eip / 2j)
-                self.gm.append(-gamma / eip / 2j)
+                self.gp.append(_quot(gamma * eip, 2j))
+                self.gm.append(_quot(_quot(-gamma, eip), 2j))
         # secular modes (lam ~ 0): no constant part, their held load's part is beta tau phi1(lam tau)
-        self.beta = [sum(modes.W[k][n + i] * b[i] for i in range(n)) for k in secular]
+        self.beta = [_dot(modes.W[k], b, n, n) for k in secular]
         for k in secular:
             self.coef[k], self.const[k] = self.eta0[k], 0j
 
     def modal(self, tau):
         """Modal coordinates eta_k(tau) of the kept modes."""
-        out = []
-        if self.forced:
+        lams, eta0, const = self.modes.lam, self.eta0, self.const
+        forced = self.forced
+        if forced:
             sp = 1j * self.om
-            ep, em = cmath.exp(sp * tau), cmath.exp(-sp * tau)
-        for k, lam in enumerate(self.modes.lam):
-            el, el_m1 = exp_pair(lam * tau)
-            eta = el * self.eta0[k] - self.const[k] * el_m1
-            if self.forced:
-                eta += self.gp[k] * _spread(sp, lam, tau, ep, el) + self.gm[k] * _spread(-sp, lam, tau, em, el)
-            out.append(eta)
+            e_plus, e_minus = cmath.exp(sp * tau), cmath.exp(-sp * tau)
+        out = _free(lams, eta0, const, tau)
+        if forced:
+            for k in range(len(lams)):
+                lam = lams[k]
+                el = exp_pair(lam * tau)[0]
+                out[k] += self.gp[k] * _spread(sp, lam, tau, e_plus, el) + self.gm[k] * _spread(-sp, lam, tau, e_minus, el)
         if self.secular:  # their const is 0: the held load's part is beta tau phi1(lam tau)
-            lams = self.modes.lam
             for i, k in enumerate(self.secular):
                 out[k] += self.beta[i] * tau * phi1(lams[k] * tau)
         return out
@@ -245,12 +245,10 @@ class Motion:
         """z(tau) = (q, q') as a list of floats (only the components `rows`, if given, in their order)."""
         eta = self.modal(tau)
         m = self.modes
+        weight = m.weight
         out = []
         for row in (m.V if rows is None else [m.V[i] for i in rows]):
-            s = 0.0
-            for k, e in enumerate(eta):
-                s += m.weight[k] * (row[k] * e).real
-            out.append(s)
+            out.append(_weighted_real(weight, row, eta))
         return out
 
     def derivatives(self, tau, rows, orders=5):
@@ -268,27 +266,28 @@ class Motion:
         out = {}
         for i, (lo, hi) in rows.items():
             row = m.weighted_complex(i)
-            out[i] = [sum([(w * e).real for w, e in zip(row, levels[j])]) for j in range(lo, hi)]
+            out[i] = [_real_dot(row, levels[j]) for j in range(lo, hi)]
         return out
 
     def _levels(self, tau, orders):
         """[eta, eta', ..., eta^(orders - 1)] of the kept modes at tau (see derivatives)."""
         m = self.modes
+        lams = m.lam
         eta = self.eta0 if tau == 0.0 else self.modal(tau)
-        s, c = self.load(tau)
-        om = self.om
+        const = self.const
         levels = [eta]
-        d = [lam * e - k * lam for lam, e, k in zip(m.lam, eta, self.const)]  # lam eta + beta, beta = -lam const
+        d = _rates(lams, eta, const)  # lam eta + beta, beta = -lam const
         if self.secular:
             for i, k in enumerate(self.secular):
                 d[k] += self.beta[i]
         if self.forced:
+            s, c = self.load(tau)
             d = [x + g * s for x, g in zip(d, self.gamma)]
         levels.append(d)
         for j in range(2, orders):  # d/dtau of gamma sin: gamma Omega cos, -gamma Omega^2 sin, ...
-            d = [lam * x for lam, x in zip(m.lam, d)]
+            d = _rates(lams, d, None)
             if self.forced:
-                term = om ** (j - 1) * (c, -s, -c, s)[(j - 2) % 4]
+                term = self.om ** (j - 1) * (c, -s, -c, s)[(j - 2) % 4]
                 d = [x + g * term for x, g in zip(d, self.gamma)]
             levels.append(d)
         return levels
@@ -316,7 +315,7 @@ class Motion:
             weighted = [m.weighted(i) for i in (range(2 * m.n) if rows is None else rows)]
         elif weighted is None:  # (weight |V|) first, as the sum always did
             weighted = [[w * abs(v) for w, v in zip(m.weight, vrow)] for vrow in vectors]
-        return [[sum(map(mul, scaled, column)) for column in columns[:orders]] for scaled in weighted]
+        return [[_dot_real(scaled, columns[j]) for j in range(orders)] for scaled in weighted]
 
     def _columns_over(self, T, orders):
         """Per order j < orders, per kept mode: the bound of |eta_k^(j)| (j = 0: of its swing about
@@ -355,12 +354,103 @@ class Motion:
         m = self.modes
         if vectors is None:
             vectors = m.V if rows is None else [m.V[i] for i in rows]
-        return [sum(m.weight[k] * (vrow[k] * self.const[k]).real for k in range(len(m.lam))) for vrow in vectors]
+        return [_weighted_real(m.weight, vrow, self.const) for vrow in vectors]
 
 
 def _spread(s, lam, tau, es, el):
     """(exp(s tau) - exp(lam tau)) / (s - lam), given es = exp(s tau), el = exp(lam tau)."""
     w = (s - lam) * tau
     if abs(w) > _SERIES:
-        return (es - el) / (s - lam)
+        return _quot(es - el, s - lam)
     return tau * el * phi1(w)
+
+
+def _free(lams, eta0, shift, tau):
+    """The unforced modal coordinates exp(lam tau) eta0 - shift (exp(lam tau) - 1) at tau, per mode
+    (shift: Motion.const)
+    (exp(lam tau) and its expm1 as exp_pair has them, written out: the hot loop)."""
+    out = [0j] * len(lams)
+    for k in range(len(lams)):
+        z = lams[k] * tau
+        a = z.real
+        b = z.imag
+        if a * a + b * b > 0.25:
+            el = cmath.exp(z)
+            em = el - 1.0
+        else:
+            ea = math.expm1(a)
+            h = math.sin(0.5 * b)
+            omc = 2.0 * h * h  # 1 - cos(b)
+            em = complex(ea - ea * omc - omc, (1.0 + ea) * 2.0 * h * math.cos(0.5 * b))
+            el = em + 1.0
+        e0 = eta0[k]
+        c = shift[k]
+        out[k] = el * e0 - c * em
+    return out
+
+
+def _rates(lams, eta, shift):
+    """lam_k eta_k - shift_k lam_k per mode (lam_k eta_k if shift is None; shift: Motion.const): the
+    next derivative's modal coordinates of the free motion."""
+    out = [0j] * len(lams)
+    for k in range(len(lams)):
+        lam = lams[k]
+        e = eta[k]
+        if shift is None:
+            out[k] = lam * e
+        else:
+            c = shift[k]
+            out[k] = lam * e - c * lam
+    return out
+
+
+def _weighted_real(weight, row, eta):
+    """sum_k weight_k Re(row_k eta_k), added left to right from 0 (a component of z from its modes)."""
+    s = 0.0
+    for k in range(len(eta)):
+        w = weight[k]
+        v = row[k]
+        e = eta[k]
+        s += w * (v * e).real
+    return s
+
+
+def _real_dot(row, eta):
+    """sum_k Re(row_k eta_k), added left to right from 0."""
+    s = 0.0
+    for k in range(len(row)):
+        v = row[k]
+        e = eta[k]
+        s += (v * e).real
+    return s
+
+
+def _dot_real(a, b):
+    """sum_k a_k b_k of floats, added left to right from 0."""
+    s = 0.0
+    for k in range(len(a)):
+        x = a[k]
+        y = b[k]
+        s += x * y
+    return s
+
+
+def _dot(w, x, offset, n):
+    """sum_i w[offset + i] x[i], i < n (complex w, real x), added left to right from 0."""
+    s = 0j
+    for i in range(n):
+        s += w[offset + i] * x[i]
+    return s
+
+
+def _quot(a, b):
+    """a / b for complex a and b (b != 0), as CPython divides them (Smith's method: the larger part of
+    b divides first), written out so that the compiled build divides alike, operation by operation."""
+    ar, ai, br, bi = a.real, a.imag, b.real, b.imag
+    if abs(br) >= abs(bi):
+        ratio = bi / br
+        denom = br + bi * ratio
+        return complex((ar + ai * ratio) / denom, (ai - ar * ratio) / denom)
+    ratio = br / bi
+    denom = br * ratio + bi
+    return complex((ar * ratio + ai) / denom, (ai * ratio - ar) / denom)
