@@ -28,3 +28,45 @@ cpdef double complex _dot(w, x, Py_ssize_t offset, Py_ssize_t n) except *
 @cython.locals(ar=cython.double, ai=cython.double, br=cython.double, bi=cython.double, ratio=cython.double,
                denom=cython.double)
 cpdef double complex _quot(double complex a, double complex b) except *
+
+
+cdef class Modes:
+    cdef public Py_ssize_t n
+    cdef public list lam, weight, V, W, secular
+    cdef public double fastest, growth_rate
+    cdef dict _weighted, _complex, _difference, _drifts
+
+    cpdef list weighted_complex(self, Py_ssize_t i)
+    cpdef list weighted_difference(self, Py_ssize_t i, Py_ssize_t j)
+    cpdef list weighted_drifts(self, Py_ssize_t n)
+    cpdef list weighted(self, Py_ssize_t i)
+
+
+cdef class Motion:
+    cdef public Modes modes
+    cdef public list eta0, coef, steady, gp, gm, gamma, beta, secular
+    cdef public double om, psi
+    cdef public bint forced
+    cdef public object _columns, _start
+
+    @cython.locals(k=cython.Py_ssize_t, lams=list)
+    cpdef list modal(self, double tau)
+
+    @cython.locals(out=list, weight=list, m=Modes)
+    cpdef list state(self, double tau, rows=*)
+
+    @cython.locals(m=Modes, out=dict, levels=list, lo=cython.Py_ssize_t, hi=cython.Py_ssize_t, j=cython.Py_ssize_t,
+                   row=list)
+    cpdef dict derivatives(self, double tau, dict rows, Py_ssize_t orders=*)
+
+    @cython.locals(m=Modes, lams=list, levels=list, d=list, j=cython.Py_ssize_t, s=cython.double, c=cython.double)
+    cpdef list _levels(self, double tau, Py_ssize_t orders)
+
+    @cython.locals(a=cython.double)
+    cpdef tuple load(self, double tau)
+
+    @cython.locals(m=Modes, j=cython.Py_ssize_t, columns=list)
+    cpdef list bounds(self, double T, Py_ssize_t orders=*, rows=*, vectors=*, weighted=*)
+
+    @cython.locals(m=Modes)
+    cpdef list rest(self, rows=*, vectors=*)

@@ -67,9 +67,13 @@ class Modes:
     z), fastest: the largest |lam|.  Raises ModesError if two modes coincide (or, n >= 3, if the
     eigen-solver fails)."""
 
+    __slots__ = ("n", "lam", "weight", "V", "W", "fastest", "secular", "growth_rate", "_weighted", "_complex",
+                 "_difference", "_drifts")
+
     def __init__(self, K, C):
         n = len(K)
         self.n = n
+        self._weighted, self._complex, self._difference, self._drifts = {}, {}, {}, {}  # rows kept (below)
         # solved in the time unit 1/s of the stiffest term, so that the state matrix's rows (q and
         # q') have like scales whatever the units (a small g made V ill-scaled: 2e-4 of x lost at
         # g = 1e-15 m/s2); lam, V and W are scaled back at the end
@@ -147,14 +151,14 @@ class Modes:
     def weighted_complex(self, i):
         """weight_k V_ik over the kept modes (component i = sum of the real parts of these times
         the modal coordinates), kept."""
-        cache = self.__dict__.setdefault("_weighted_complex", {})
+        cache = self._complex
         if i not in cache:
             cache[i] = [w * v for w, v in zip(self.weight, self.V[i])]
         return cache[i]
 
     def weighted_difference(self, i, j):
         """weight_k |V_ik - V_jk| over the kept modes (the bounds of z_i - z_j), kept."""
-        cache = self.__dict__.setdefault("_weighted_difference", {})
+        cache = self._difference
         if (i, j) not in cache:
             cache[i, j] = [w * abs(a - b) for w, a, b in zip(self.weight, self.V[i], self.V[j])]
         return cache[i, j]
@@ -162,14 +166,14 @@ class Modes:
     def weighted_drifts(self, n):
         """The rows (weighted, weighted_difference) of the drifts z_0, z_1 - z_0, ..., z_(n-1) - z_(n-2)
         (a building's storeys, its floors first in z), kept."""
-        cache = self.__dict__.setdefault("_weighted_drifts", {})
+        cache = self._drifts
         if n not in cache:
             cache[n] = [self.weighted(0)] + [self.weighted_difference(k, k - 1) for k in range(1, n)]
         return cache[n]
 
     def weighted(self, i):
         """weight_k |V_ik| over the kept modes (the bounds of component i's modal parts), kept."""
-        cache = self.__dict__.setdefault("_weighted", {})
+        cache = self._weighted
         if i not in cache:
             cache[i] = [w * abs(v) for w, v in zip(self.weight, self.V[i])]
         return cache[i]
@@ -193,7 +197,7 @@ class Motion:
     Modes may grow (Re lam > 0: a negative tangent stiffness) or be secular (lam ~ 0: a zero
     tangent; Modes.secular): their parts stay exact and the bounds account for the growth."""
 
-    __slots__ = ("modes", "eta0", "coef", "const", "gp", "gm", "om", "forced", "psi", "gamma", "beta", "secular",
+    __slots__ = ("modes", "eta0", "coef", "steady", "gp", "gm", "om", "forced", "psi", "gamma", "beta", "secular",
                  "_columns", "_start")
 
     def __init__(self, modes, z0, b, f=None, om=0.0, psi=0.0):
@@ -202,7 +206,7 @@ class Motion:
         n = modes.n
         self.om, self.psi = om, psi
         self.forced = f is not None and any(fi != 0.0 for fi in f)
-        self.eta0, self.coef, self.const, self.gp, self.gm, self.gamma = [], [], [], [], [], []
+        self.eta0, self.coef, self.steady, self.gp, self.gm, self.gamma = [], [], [], [], [], []
         self.secular = secular = modes.secular
         eip = cmath.exp(1j * psi)
         lams = modes.lam
@@ -212,7 +216,7 @@ class Motion:
             c = _quot(_dot(w, b, n, n), lams[k]) if lams[k] else 0j  # beta / lam
             self.eta0.append(eta0)
             self.coef.append(eta0 + c)
-            self.const.append(-c)
+            self.steady.append(-c)
             if self.forced:
                 gamma = _dot(w, f, n, n)
                 self.gamma.append(gamma)
@@ -221,22 +225,22 @@ class Motion:
         # secular modes (lam ~ 0): no constant part, their held load's part is beta tau phi1(lam tau)
         self.beta = [_dot(modes.W[k], b, n, n) for k in secular]
         for k in secular:
-            self.coef[k], self.const[k] = self.eta0[k], 0j
+            self.coef[k], self.steady[k] = self.eta0[k], 0j
 
     def modal(self, tau):
         """Modal coordinates eta_k(tau) of the kept modes."""
-        lams, eta0, const = self.modes.lam, self.eta0, self.const
+        lams, eta0 = self.modes.lam, self.eta0
         forced = self.forced
         if forced:
             sp = 1j * self.om
             e_plus, e_minus = cmath.exp(sp * tau), cmath.exp(-sp * tau)
-        out = _free(lams, eta0, const, tau)
+        out = _free(lams, eta0, self.steady, tau)
         if forced:
             for k in range(len(lams)):
                 lam = lams[k]
                 el = exp_pair(lam * tau)[0]
                 out[k] += self.gp[k] * _spread(sp, lam, tau, e_plus, el) + self.gm[k] * _spread(-sp, lam, tau, e_minus, el)
-        if self.secular:  # their const is 0: the held load's part is beta tau phi1(lam tau)
+        if self.secular:  # their steady part is 0: the held load's part is beta tau phi1(lam tau)
             for i, k in enumerate(self.secular):
                 out[k] += self.beta[i] * tau * phi1(lams[k] * tau)
         return out
@@ -257,26 +261,36 @@ class Motion:
         eta' = lam eta + beta + gamma sin(Omega tau + psi): a few complex products per mode and
         order, cheaper than z(tau) and the system's matrices when a few rows are asked for."""
         m = self.modes
-        if tau == 0.0 and self._start is not None and len(self._start) >= orders:
-            levels = self._start
-        else:
-            levels = self._levels(tau, orders)
-            if tau == 0.0:
-                self._start = levels
+        levels = self._levels_at(tau, orders)
         out = {}
         for i, (lo, hi) in rows.items():
             row = m.weighted_complex(i)
             out[i] = [_real_dot(row, levels[j]) for j in range(lo, hi)]
         return out
 
+    def component_derivatives(self, tau, first, last, orders):
+        """[[d^j z_i / dtau^j at tau for j < orders] for first <= i < last] (a building's floors i), as
+        derivatives() gives them."""
+        m = self.modes
+        levels = self._levels_at(tau, orders)
+        return [[_real_dot(m.weighted_complex(i), levels[j]) for j in range(orders)] for i in range(first, last)]
+
+    def _levels_at(self, tau, orders):
+        """_levels(tau, orders), those at 0 kept."""
+        if tau == 0.0 and self._start is not None and len(self._start) >= orders:
+            return self._start
+        levels = self._levels(tau, orders)
+        if tau == 0.0:
+            self._start = levels
+        return levels
+
     def _levels(self, tau, orders):
         """[eta, eta', ..., eta^(orders - 1)] of the kept modes at tau (see derivatives)."""
         m = self.modes
         lams = m.lam
         eta = self.eta0 if tau == 0.0 else self.modal(tau)
-        const = self.const
         levels = [eta]
-        d = _rates(lams, eta, const)  # lam eta + beta, beta = -lam const
+        d = _rates(lams, eta, self.steady)  # lam eta + beta, beta = -lam steady
         if self.secular:
             for i, k in enumerate(self.secular):
                 d[k] += self.beta[i]
@@ -354,7 +368,7 @@ class Motion:
         m = self.modes
         if vectors is None:
             vectors = m.V if rows is None else [m.V[i] for i in rows]
-        return [_weighted_real(m.weight, vrow, self.const) for vrow in vectors]
+        return [_weighted_real(m.weight, vrow, self.steady) for vrow in vectors]
 
 
 def _spread(s, lam, tau, es, el):
@@ -367,7 +381,7 @@ def _spread(s, lam, tau, es, el):
 
 def _free(lams, eta0, shift, tau):
     """The unforced modal coordinates exp(lam tau) eta0 - shift (exp(lam tau) - 1) at tau, per mode
-    (shift: Motion.const)
+    (shift: Motion.steady)
     (exp(lam tau) and its expm1 as exp_pair has them, written out: the hot loop)."""
     out = [0j] * len(lams)
     for k in range(len(lams)):
@@ -390,7 +404,7 @@ def _free(lams, eta0, shift, tau):
 
 
 def _rates(lams, eta, shift):
-    """lam_k eta_k - shift_k lam_k per mode (lam_k eta_k if shift is None; shift: Motion.const): the
+    """lam_k eta_k - shift_k lam_k per mode (lam_k eta_k if shift is None; shift: Motion.steady): the
     next derivative's modal coordinates of the free motion."""
     out = [0j] * len(lams)
     for k in range(len(lams)):

@@ -351,16 +351,19 @@ class StoreyGuards:
         self.motion = motion
         self.n = n = storeys.n
         modes = motion.modes
-        growth = modes.fastest
-        bd = motion.bounds(T, 6, weighted=modes.weighted_drifts(n))
-        start = self._drifts(0.0, 5)
+        self._keep(storeys.guards(), motion.bounds(T, 6, weighted=modes.weighted_drifts(n)), self._drifts(0.0, 5),
+                   T, modes.fastest)
+
+    def _keep(self, guards, bd, start, T, growth):
+        """Keep the guards that may reach zero on [0, T] (bd: per storey the bounds of its drift's
+        derivatives, start: its derivatives at 0) and set the protocol's bounds, noise, clear."""
         b2 = b3 = b4 = n0 = n1 = n2 = n3 = 0.0
         kept = []
-        for guard in storeys.guards():
-            i, order, coef, const, _ = guard
+        for guard in guards:
+            i, order, coef, offset, _ = guard
             c, di, bi = abs(coef), start[i], bd[i]
-            own = TOLERANCE * (abs(const) + c * (abs(di[order]) + T * bi[order + 1]))  # its rounding level
-            least = const + coef * di[order] - T * min(c * bi[order + 1],
+            own = TOLERANCE * (abs(offset) + c * (abs(di[order]) + T * bi[order + 1]))  # its rounding level
+            least = offset + coef * di[order] - T * min(c * bi[order + 1],
                                                        abs(coef * di[order + 1]) + T * c * bi[order + 2])
             if least > own * (1.0 + growth * T):
                 continue  # cannot reach zero on [0, T]
@@ -378,14 +381,15 @@ class StoreyGuards:
         self.growth = growth if kept else 0.0
         self.clear = not kept
 
-    def _drifts(self, tau, orders):
-        """Per storey [delta, delta', ..., delta^(orders - 1)] at tau."""
-        n = self.n
-        d = self.motion.derivatives(tau, {k: (0, orders) for k in range(n)}, max(orders, 2))
-        out = [d[0]]
-        for k in range(1, n):
+    def _drifts(self, tau, orders, first=0, last=None):
+        """Per storey k (first <= k < last, default all) [delta, delta', ..., delta^(orders - 1)] at tau."""
+        last = self.n if last is None else last
+        lo = first - 1 if first else 0
+        d = self.motion.component_derivatives(tau, lo, last, max(orders, 2))
+        out = [d[0][:orders]] if not first else []
+        for k in range(1, len(d)):
             a, b = d[k], d[k - 1]
-            out.append([p - q for p, q in zip(a, b)])
+            out.append([a[j] - b[j] for j in range(orders)])
         return out
 
     def values(self, tau):
@@ -393,16 +397,18 @@ class StoreyGuards:
             return []
         d = self._drifts(tau, 3)
         out = []
-        for i, order, coef, const, _ in self.guards:
+        for guard in self.guards:
+            i, order, coef, offset = guard[0], guard[1], guard[2], guard[3]
             di = d[i]
-            out.append(const + coef * di[order])
+            out.append(offset + coef * di[order])
             out.append(coef * di[order + 1])
         return out
 
     def derivs(self, tau, index):
-        i, order, coef, const, _ = self.guards[index]
-        di = self._drifts(tau, 5)[i]
-        return const + coef * di[order], coef * di[order + 1], coef * di[order + 2], coef * di[order + 3]
+        guard = self.guards[index]
+        i, order, coef, offset = guard[0], guard[1], guard[2], guard[3]
+        di = self._drifts(tau, 5, i, i + 1)[0]
+        return offset + coef * di[order], coef * di[order + 1], coef * di[order + 2], coef * di[order + 3]
 
 
 class RegimePiece:

@@ -1,0 +1,31 @@
+# Types for the compiled build of yielding.py (Cython, pure-Python mode): the storeys' guards over a
+# piece as a typed class, its loops in C doubles.
+import cython
+
+from .modal cimport Motion
+
+
+cdef class StoreyGuards:
+    cdef public Motion motion
+    cdef public list guards
+    cdef public tuple bounds, noise
+    cdef public double growth
+    cdef public bint clear
+    cdef public Py_ssize_t n
+
+    @cython.locals(b2=cython.double, b3=cython.double, b4=cython.double, n0=cython.double, n1=cython.double,
+                   n2=cython.double, n3=cython.double, kept=list, i=cython.Py_ssize_t, order=cython.Py_ssize_t,
+                   coef=cython.double, offset=cython.double, c=cython.double, di=list, bi=list, own=cython.double,
+                   least=cython.double)
+    cpdef _keep(self, guards, list bd, list start, double T, double growth)
+
+    @cython.locals(lo=cython.Py_ssize_t, d=list, out=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t, a=list, b=list)
+    cpdef list _drifts(self, double tau, Py_ssize_t orders, Py_ssize_t first=*, last=*)
+
+    @cython.locals(d=list, out=list, guard=tuple, i=cython.Py_ssize_t, order=cython.Py_ssize_t, coef=cython.double,
+                   offset=cython.double, di=list)
+    cpdef list values(self, double tau)
+
+    @cython.locals(guard=tuple, i=cython.Py_ssize_t, order=cython.Py_ssize_t, coef=cython.double,
+                   offset=cython.double, di=list)
+    cpdef tuple derivs(self, double tau, Py_ssize_t index)
