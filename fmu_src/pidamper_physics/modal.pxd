@@ -48,6 +48,8 @@ cdef class Motion:
     cdef public double om, psi
     cdef public bint forced
     cdef public object _columns, _start
+    cdef double _at, _levels_tau
+    cdef list _eta, _levels_last
 
     @cython.locals(k=cython.Py_ssize_t, lams=list)
     cpdef list modal(self, double tau)

@@ -198,11 +198,13 @@ class Motion:
     tangent; Modes.secular): their parts stay exact and the bounds account for the growth."""
 
     __slots__ = ("modes", "eta0", "coef", "steady", "gp", "gm", "om", "forced", "psi", "gamma", "beta", "secular",
-                 "_columns", "_start")
+                 "_columns", "_start", "_at", "_eta", "_levels_tau", "_levels_last")
 
     def __init__(self, modes, z0, b, f=None, om=0.0, psi=0.0):
         self.modes = modes
         self._columns = self._start = None  # caches: bounds' per-mode table over [0, T], derivatives at 0
+        self._at = self._levels_tau = math.nan  # ... and the last modal coordinates and derivatives' levels
+        self._eta = self._levels_last = None
         n = modes.n
         self.om, self.psi = om, psi
         self.forced = f is not None and any(fi != 0.0 for fi in f)
@@ -228,7 +230,9 @@ class Motion:
             self.coef[k], self.steady[k] = self.eta0[k], 0j
 
     def modal(self, tau):
-        """Modal coordinates eta_k(tau) of the kept modes."""
+        """Modal coordinates eta_k(tau) of the kept modes (the list is shared: do not change it)."""
+        if tau == self._at:  # the guards of several segments ask at one tau
+            return self._eta
         lams, eta0 = self.modes.lam, self.eta0
         forced = self.forced
         if forced:
@@ -243,6 +247,7 @@ class Motion:
         if self.secular:  # their steady part is 0: the held load's part is beta tau phi1(lam tau)
             for i, k in enumerate(self.secular):
                 out[k] += self.beta[i] * tau * phi1(lams[k] * tau)
+        self._at, self._eta = tau, out
         return out
 
     def state(self, tau, rows=None):
@@ -276,12 +281,15 @@ class Motion:
         return [[_real_dot(m.weighted_complex(i), levels[j]) for j in range(orders)] for i in range(first, last)]
 
     def _levels_at(self, tau, orders):
-        """_levels(tau, orders), those at 0 kept."""
+        """_levels(tau, orders), those at 0 and the last kept (shared: do not change them)."""
         if tau == 0.0 and self._start is not None and len(self._start) >= orders:
             return self._start
+        if tau == self._levels_tau and len(self._levels_last) >= orders:
+            return self._levels_last
         levels = self._levels(tau, orders)
         if tau == 0.0:
             self._start = levels
+        self._levels_tau, self._levels_last = tau, levels
         return levels
 
     def _levels(self, tau, orders):

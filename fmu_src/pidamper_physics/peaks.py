@@ -115,14 +115,20 @@ class Peaks:
             values.append((v[k] + vg, acc[k] + a_g, jerk[k]))
             active.append((2, k, bk[5]))
             values.append((acc[k] + a_g, jerk[k], snap[k]))
-        tops = (self.drift, self.velocity, self.acceleration)
-        for (kind, k, _), (f, _, _) in zip(active, values):
-            if abs(f) > tops[kind][k]:
-                tops[kind][k] = abs(f)
+        for i in range(len(active)):
+            q, y = active[i], values[i]
+            self._raise(q[0], q[1], y[0])
         active, values = self._open(active, values, tau)
         if active and tau > 0.0:
             self._scan(piece, active, values, tau, a_g)
         self.v_ground = vg + a_g * tau
+
+    def _raise(self, kind, k, f):
+        """Raise the maximum of quantity (kind, k) to |f| if that is above it."""
+        top = self.drift if kind == 0 else self.velocity if kind == 1 else self.acceleration
+        old = top[k]
+        if abs(f) > old:
+            top[k] = abs(f)
 
     #: the orders of the derivatives of x_k each kind needs, (lo, hi): drift 0..2, v_abs 1..3, a_abs 2..4
     _LEVELS = ((0, 3), (1, 4), (2, 5))
@@ -132,30 +138,30 @@ class Peaks:
         need = {}
         for kind, k, _ in active:
             lo, hi = self._LEVELS[kind]
-            for floor in ((k, k - 1) if kind == 0 and k else (k,)):
+            for floor in range(k - 1 if kind == 0 and k else k, k + 1):  # a drift needs the floor below too
                 old = need.get(floor)
                 need[floor] = (lo, hi) if old is None else (min(old[0], lo), max(old[1], hi))
         d = piece.derivatives(s, need)
         ih, vg = self.inv_h, self.v_ground + a_g * s
-        tops = (self.drift, self.velocity, self.acceleration)
         out = []
-        for kind, k, _ in active:
+        for q in active:
+            kind, k = q[0], q[1]
             lo = need[k][0]
             dk = d[k]
             if kind == 0:
                 h = ih[k]
                 if k:
                     dl, ll = d[k - 1], need[k - 1][0]
-                    f, f1, f2 = ((dk[j - lo] - dl[j - ll]) * h for j in (0, 1, 2))
+                    f = (dk[0 - lo] - dl[0 - ll]) * h
+                    f1 = (dk[1 - lo] - dl[1 - ll]) * h
+                    f2 = (dk[2 - lo] - dl[2 - ll]) * h
                 else:
-                    f, f1, f2 = (dk[j - lo] * h for j in (0, 1, 2))
+                    f, f1, f2 = dk[0 - lo] * h, dk[1 - lo] * h, dk[2 - lo] * h
             elif kind == 1:
                 f, f1, f2 = dk[1 - lo] + vg, dk[2 - lo] + a_g, dk[3 - lo]
             else:
                 f, f1, f2 = dk[2 - lo] + a_g, dk[3 - lo], dk[4 - lo]
-            top = tops[kind]
-            if abs(f) > top[k]:
-                top[k] = abs(f)
+            self._raise(kind, k, f)
             out.append((f, f1, f2))
         return out
 
@@ -177,18 +183,18 @@ class Peaks:
                 a, b = b, tau
                 active, fa = self._open(active, fb, tau - a)
                 continue
-            b = a + self._next(fa[worst], fb[worst], length)
+            b = a + _next(fa[worst], fb[worst], length)
         # never reached in practice: what is left is accepted (its ends are counted)
 
     def _open(self, active, values, rest):
         """The quantities (and their values) that the forward cubic from here does not clear over
         the `rest` of the piece."""
-        tops = (self.drift, self.velocity, self.acceleration)
         kept, kept_values = [], []
-        for q, y in zip(active, values):
-            kind, k, b3 = q
-            top = tops[kind][k] * (1.0 + REL) + _TINY
-            f, f1, f2 = y
+        for i in range(len(active)):
+            q, y = active[i], values[i]
+            b3 = q[2]
+            top = self._top(q[0], q[1])
+            f, f1, f2 = y[0], y[1], y[2]
             if abs(f) + rest * (abs(f1) + rest * (0.5 * abs(f2) + rest * b3 / 6.0)) <= top:
                 continue
             if _cubic_max(f, f1, f2, b3, rest) <= top:
@@ -197,13 +203,19 @@ class Peaks:
             kept_values.append(y)
         return kept, kept_values
 
+    def _top(self, kind, k):
+        """The maximum of quantity (kind, k) with the excess an interval may hide."""
+        top = self.drift if kind == 0 else self.velocity if kind == 1 else self.acceleration
+        return top[k] * (1.0 + REL) + _TINY
+
     def _worst(self, active, fa, fb, length):
         """Index of the active quantity the interval's two cubics leave most above its maximum, or -1."""
-        tops = (self.drift, self.velocity, self.acceleration)
         worst, excess = -1, 0.0
-        for i, (kind, k, b3) in enumerate(active):
-            top = tops[kind][k] * (1.0 + REL) + _TINY
-            f, f1, f2 = fa[i]
+        for i in range(len(active)):
+            q, y = active[i], fa[i]
+            b3 = q[2]
+            top = self._top(q[0], q[1])
+            f, f1, f2 = y[0], y[1], y[2]
             if abs(f) + length * (abs(f1) + length * (0.5 * abs(f2) + length * b3 / 6.0)) <= top:
                 continue  # far below its maximum: the crude bound settles it
             yb = fb[i]
@@ -212,16 +224,20 @@ class Peaks:
                 worst, excess = i, over
         return worst
 
-    @staticmethod
-    def _next(ya, yb, length):
-        """Offset from a of the next point, well inside (0, length): a Newton step on f' from the
-        end whose quadratic turns towards an extremum of |f| inside, else the midpoint.  (A step
-        that lands on the other end is no new point: that end came from the same step.)"""
-        lo, hi = 1e-6 * length, (1.0 - 1e-6) * length
-        for f, f1, f2, back in ((yb[0], yb[1], yb[2], True), (ya[0], ya[1], ya[2], False)):
-            if f2 != 0.0 and f * f2 < 0.0:
-                s = -f1 / f2  # the vertex, measured from that end
-                s = length + s if back else s
-                if lo < s < hi:
-                    return s
-        return 0.5 * length
+
+def _next(ya, yb, length):
+    """Offset from a of the next point, well inside (0, length): a Newton step on f' from the end
+    whose quadratic turns towards an extremum of |f| inside, else the midpoint.  (A step that lands
+    on the other end is no new point: that end came from the same step.)"""
+    lo, hi = 1e-6 * length, (1.0 - 1e-6) * length
+    f, f1, f2 = yb[0], yb[1], yb[2]
+    if f2 != 0.0 and f * f2 < 0.0:
+        s = length + -f1 / f2  # the vertex, measured from b
+        if lo < s < hi:
+            return s
+    f, f1, f2 = ya[0], ya[1], ya[2]
+    if f2 != 0.0 and f * f2 < 0.0:
+        s = -f1 / f2  # the vertex, measured from a
+        if lo < s < hi:
+            return s
+    return 0.5 * length

@@ -1,0 +1,47 @@
+# Types for the compiled build of peaks.py (Cython, pure-Python mode): the running maxima as a typed
+# class, the certification's cubics in C doubles.
+import cython
+
+cdef double REL, _TINY
+cdef Py_ssize_t _MAX_POINTS
+
+@cython.locals(best=cython.double, sg=cython.double, c0=cython.double, c1=cython.double, c2=cython.double,
+               top=cython.double, end=cython.double, disc=cython.double, s=cython.double)
+cdef double _cubic_max(double f, double f1, double f2, double b3, double length) except? -1.0
+
+@cython.locals(lo=cython.double, hi=cython.double, f=cython.double, f1=cython.double, f2=cython.double,
+               s=cython.double)
+cdef double _next(tuple ya, tuple yb, double length) except? -1.0
+
+
+cdef class Peaks:
+    cdef public Py_ssize_t n
+    cdef public list inv_h, drift, velocity, acceleration
+    cdef public double v_ground
+
+    @cython.locals(n=cython.Py_ssize_t, k=cython.Py_ssize_t, i=cython.Py_ssize_t, ih=list, vg=cython.double,
+                   h=cython.double, active=list, values=list, q=tuple, y=tuple)
+    cpdef take(self, piece, double tau, double a_g)
+
+    @cython.locals(top=list, old=cython.double)
+    cdef _raise(self, Py_ssize_t kind, Py_ssize_t k, double f)
+
+    @cython.locals(top=list)
+    cdef double _top(self, Py_ssize_t kind, Py_ssize_t k) except? -1.0
+
+    @cython.locals(need=dict, ih=list, vg=cython.double, out=list, q=tuple, kind=cython.Py_ssize_t,
+                   k=cython.Py_ssize_t, lo=cython.Py_ssize_t, ll=cython.Py_ssize_t, hi=cython.Py_ssize_t,
+                   h=cython.double, f=cython.double, f1=cython.double, f2=cython.double, dk=list, dl=list)
+    cpdef list _values(self, piece, double s, double a_g, list active)
+
+    @cython.locals(a=cython.double, b=cython.double, length=cython.double, worst=cython.Py_ssize_t, fb=list)
+    cpdef _scan(self, piece, list active, list fa, double tau, double a_g)
+
+    @cython.locals(kept=list, kept_values=list, i=cython.Py_ssize_t, q=tuple, y=tuple, b3=cython.double,
+                   top=cython.double, f=cython.double, f1=cython.double, f2=cython.double)
+    cpdef tuple _open(self, list active, list values, double rest)
+
+    @cython.locals(worst=cython.Py_ssize_t, excess=cython.double, i=cython.Py_ssize_t, q=tuple, y=tuple,
+                   yb=tuple, b3=cython.double, top=cython.double, f=cython.double, f1=cython.double,
+                   f2=cython.double, over=cython.double)
+    cpdef Py_ssize_t _worst(self, list active, list fa, list fb, double length) except? -2
