@@ -23,7 +23,7 @@ cpdef double _real_dot(row, eta) except? -1.0
 cpdef double _dot_real(a, b) except? -1.0
 
 @cython.locals(i=cython.Py_ssize_t, s=cython.doublecomplex)
-cpdef double complex _dot(w, x, Py_ssize_t offset, Py_ssize_t n) except *
+cpdef double complex _dot(list w, x, Py_ssize_t offset, Py_ssize_t n) except *
 
 @cython.locals(ar=cython.double, ai=cython.double, br=cython.double, bi=cython.double, ratio=cython.double,
                denom=cython.double)
@@ -50,6 +50,11 @@ cdef class Motion:
     cdef public object _columns, _start
     cdef double _at, _levels_tau
     cdef list _eta, _levels_last
+
+    @cython.locals(n=cython.Py_ssize_t, k=cython.Py_ssize_t, lams=list, w=list, lam=cython.doublecomplex,
+                   eta0=cython.doublecomplex, c=cython.doublecomplex, gamma=cython.doublecomplex,
+                   eip=cython.doublecomplex)
+    cpdef _project(self, Modes modes, z0, b, f, double psi)
 
     @cython.locals(k=cython.Py_ssize_t, lams=list)
     cpdef list modal(self, double tau)

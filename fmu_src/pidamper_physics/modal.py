@@ -205,17 +205,23 @@ class Motion:
         self._columns = self._start = None  # caches: bounds' per-mode table over [0, T], derivatives at 0
         self._at = self._levels_tau = math.nan  # ... and the last modal coordinates and derivatives' levels
         self._eta = self._levels_last = None
-        n = modes.n
         self.om, self.psi = om, psi
         self.forced = f is not None and any(fi != 0.0 for fi in f)
         self.eta0, self.coef, self.steady, self.gp, self.gm, self.gamma = [], [], [], [], [], []
-        self.secular = secular = modes.secular
+        self.secular = modes.secular
+        self._project(modes, z0, b, f, psi)
+
+    def _project(self, modes, z0, b, f, psi):
+        """The start z0, the held load b and the harmonic's amplitudes f in modal coordinates: eta0,
+        coef, steady (and gamma, gp, gm if forced) per kept mode, beta per secular one."""
+        n = modes.n
         eip = cmath.exp(1j * psi)
         lams = modes.lam
         for k in range(len(lams)):
             w = modes.W[k]
+            lam = lams[k]
             eta0 = _dot(w, z0, 0, 2 * n)
-            c = _quot(_dot(w, b, n, n), lams[k]) if lams[k] else 0j  # beta / lam
+            c = _quot(_dot(w, b, n, n), lam) if lam != 0 else 0j  # beta / lam
             self.eta0.append(eta0)
             self.coef.append(eta0 + c)
             self.steady.append(-c)
@@ -225,8 +231,8 @@ class Motion:
                 self.gp.append(_quot(gamma * eip, 2j))
                 self.gm.append(_quot(_quot(-gamma, eip), 2j))
         # secular modes (lam ~ 0): no constant part, their held load's part is beta tau phi1(lam tau)
-        self.beta = [_dot(modes.W[k], b, n, n) for k in secular]
-        for k in secular:
+        self.beta = [_dot(modes.W[k], b, n, n) for k in self.secular]
+        for k in self.secular:
             self.coef[k], self.steady[k] = self.eta0[k], 0j
 
     def modal(self, tau):

@@ -11,9 +11,8 @@ ground, whatever the level.
   levels' pair: one DOF; a building's floors: N).
 """
 import math
-from operator import mul
 
-from .modal import Motion
+from .modal import Motion, _dot_real
 from .segments import TOLERANCE, noise_size
 
 _ORDERS = 6  # derivative bounds up to the 5th: the stick guard needs x^(5) for its 4th
@@ -164,14 +163,14 @@ def chain(z, n, K, C, b, j, a, om, s, c, full=True):
     """(x, v, acc, jerk, snap) of q'' + C q' + K q = b + e_j a sin(Omega tau + psi) at the state
     z = (q, q') of n DOF, given s, c = sin, cos(Omega tau + psi); jerk and snap None unless full."""
     x, v = z[:n], z[n:]
-    # sum(map(mul, row, x)) forms and adds the same products in the same order as a sum over k
-    acc = [br - sum(map(mul, kr, x)) - sum(map(mul, cr, v)) for br, kr, cr in zip(b, K, C)]
+    # _dot_real forms and adds the products in the order of a sum over k (sum(map(mul, row, x)) did)
+    acc = [br - _dot_real(kr, x) - _dot_real(cr, v) for br, kr, cr in zip(b, K, C)]
     acc[j] += a * s
     if not full:
         return x, v, acc, None, None
-    jerk = [-sum(map(mul, kr, v)) - sum(map(mul, cr, acc)) for kr, cr in zip(K, C)]
+    jerk = [-_dot_real(kr, v) - _dot_real(cr, acc) for kr, cr in zip(K, C)]
     jerk[j] += a * om * c
-    snap = [-sum(map(mul, kr, acc)) - sum(map(mul, cr, jerk)) for kr, cr in zip(K, C)]
+    snap = [-_dot_real(kr, acc) - _dot_real(cr, jerk) for kr, cr in zip(K, C)]
     snap[j] -= a * om * om * s
     return x, v, acc, jerk, snap
 
