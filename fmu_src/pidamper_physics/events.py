@@ -130,7 +130,10 @@ def locate(seg, tau_end, fresh=False):
             if nxt > tau:
                 tau = nxt
                 continue
-            near = min(range(len(values) // 2), key=lambda i: values[2 * i])  # zero within one ulp of tau
+            near = 0  # the least guard: a zero within one ulp of tau
+            for i in range(1, len(values) // 2):
+                if values[2 * i] < values[2 * near]:
+                    near = i
             step = _INF
         scale = 1.0 + growth * tau
         found = None
