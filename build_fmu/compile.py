@@ -35,8 +35,10 @@ from .locations import PHYSICS, sources
 PLAIN = ("__init__", "_build")
 #: C flags: optimised, and floating point exactly as the plain build computes it; Cython's own complex
 #: type, not C99's (whose x + y*I loses a real part of -0.0; Cython's is CPython's arithmetic, mixed
-#: real and complex operands included)
-CFLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-strict-aliasing", "-DCYTHON_CCOMPLEX=0"]
+#: real and complex operands included), its abs() by hypot as CPython's (HAVE_HYPOT: without it
+#: Cython takes sqrt(re^2 + im^2), and CPython 3.11's pyconfig.h no longer says it has hypot)
+CFLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-strict-aliasing", "-DCYTHON_CCOMPLEX=0",
+          "-DHAVE_HYPOT=1"]
 #: Cython's directives (Python semantics kept: division by zero raises, indices are checked)
 DIRECTIVES = {"language_level": 3, "binding": False, "embedsignature": False}
 ROOT = Path(__file__).resolve().parent.parent

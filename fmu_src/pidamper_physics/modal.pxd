@@ -77,3 +77,8 @@ cdef class Motion:
 
     @cython.locals(m=Modes)
     cpdef list rest(self, rows=*, vectors=*)
+
+    @cython.locals(m=Modes, om=cython.double, per_mode=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t,
+                   lam=cython.doublecomplex, a=cython.double, ck=cython.doublecomplex, size=cython.double,
+                   row=list, grow=cython.double)
+    cpdef list _columns_over(self, double T, Py_ssize_t orders)

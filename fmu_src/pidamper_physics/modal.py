@@ -351,9 +351,12 @@ class Motion:
         m = self.modes
         om = self.om
         per_mode = []
-        for k, lam in enumerate(m.lam):
+        for k in range(len(m.lam)):
+            lam = m.lam[k]
             a = abs(lam)
-            row = [abs(self.coef[k]) * a ** j for j in range(orders)]
+            ck = self.coef[k]
+            size = abs(ck)
+            row = [size * a ** j for j in range(orders)]
             if self.forced:
                 for g, s in ((self.gp[k], 1j * om), (self.gm[k], -1j * om)):
                     ga = abs(g)
@@ -370,11 +373,12 @@ class Motion:
             free = [abs(self.eta0[k]) + T * slope] + [slope * a ** (j - 1) for j in range(1, orders)]
             per_mode[k] = [f + r - abs(self.coef[k]) * a ** j for j, (f, r) in enumerate(zip(free, per_mode[k]))]
         if m.growth_rate:  # growing modes: |exp(lam tau)| <= exp(Re lam T) on [0, T]
-            for k, lam in enumerate(m.lam):
+            for k in range(len(m.lam)):
+                lam = m.lam[k]
                 if lam.real > 1e-9 * m.fastest:
                     grow = math.exp(lam.real * T)
                     per_mode[k] = [r * grow for r in per_mode[k]]
-        return list(zip(*per_mode))  # per order, the modes' bounds
+        return [[per_mode[k][j] for k in range(len(per_mode))] for j in range(orders)]  # per order, by mode
 
     def rest(self, rows=None, vectors=None):
         """Per component of z: the constant part (the equilibrium under the held load b); only
