@@ -331,7 +331,8 @@ class Motion:
         """Per component of z: bounds of |z_c - rest_c| and of |d^j z_c / dtau^j|, j = 1..orders-1,
         over 0 <= tau <= T (Re lam <= 0 makes |exp(lam tau)| <= 1).  Only the components `rows`
         (indices), if given; or of the linear functions c . z whose modal rows (c V) are `vectors`,
-        or whose rows weight_k |(c V)_k| are `weighted` (Modes.weighted, weighted_difference)."""
+        or whose rows weight_k |(c V)_k| are `weighted` (Modes.weighted, weighted_difference).  (The
+        compiled build calls it in C when the motion is typed: pass these by position.)"""
         m = self.modes
         cached = self._columns  # the per-mode table of the last T, to the highest order asked
         if cached is not None and cached[0] == T and len(cached[1]) >= orders:

@@ -38,10 +38,14 @@ class ModalFlight:
         self.K, self.C, self.b, self.f, self.om, self.D, self.gap = K, C, b, a, om, D, gap
         self.growth = max(modes.fastest, om if a != 0.0 else 0.0)
         rows = (ix, iy, n + ix, n + iy)  # x, y, v, u: the components the gap needs
-        B = motion.bounds(T, _ORDERS, rows)
-        rx, ry, _, _ = motion.rest(rows)
-        x, y, v, u = (z0[i] for i in rows)
-        Bx, By, Bv, Bu = B
+        self._guard(motion.bounds(T, _ORDERS, rows), motion.rest(rows), [z0[i] for i in rows], T, D)
+
+    def _guard(self, B, rest, start, T, D):
+        """clear, bounds and noise of the gap's guards from the bounds B of x, y, v, u over [0, T],
+        their rest values and their start values."""
+        rx, ry = rest[0], rest[1]
+        x, y, v, u = start[0], start[1], start[2], start[3]
+        Bx, By, Bv, Bu = B[0], B[1], B[2], B[3]
         # |x - y| and |x| + |y| over [0, T]: the tighter of the swing about the equilibrium and
         # the start's Taylor bound (a held load that dwarfs the restoring force puts the
         # equilibrium far beyond the motion)
@@ -51,8 +55,9 @@ class ModalFlight:
                           abs(x) + abs(y) + T * min(Bx[1] + By[1], abs(v) + abs(u) + T * (Bx[2] + By[2])), D)
         n0 = TOLERANCE * (D + size)
         self.clear = zmax < D - n0 * (1.0 + self.growth * T)
-        self.bounds = tuple(Bx[j] + By[j] for j in (2, 3, 4))
-        self.noise = (n0,) + tuple(TOLERANCE * (Bx[j] + By[j] + Bv[j - 1] + Bu[j - 1]) for j in (1, 2, 3))
+        self.bounds = (Bx[2] + By[2], Bx[3] + By[3], Bx[4] + By[4])
+        self.noise = (n0, TOLERANCE * (Bx[1] + By[1] + Bv[0] + Bu[0]), TOLERANCE * (Bx[2] + By[2] + Bv[1] + Bu[1]),
+                      TOLERANCE * (Bx[3] + By[3] + Bv[2] + Bu[2]))
 
     def positions(self, tau):
         x, y, v, u = self.motion.state(tau)
@@ -105,8 +110,8 @@ class ModalStick:
         # the guard's linear part c . z = kx . x + kv . v, as a row over the modes, and its bounds
         V = modes.V
         row = [sum(self.kx[i] * V[i][k] + self.kv[i] * V[n + i][k] for i in range(n)) for k in range(len(modes.lam))]
-        bound = motion.bounds(T, _ORDERS, vectors=[row])[0]
-        rest = motion.rest(vectors=[row])[0]
+        bound = motion.bounds(T, _ORDERS, None, [row])[0]  # (rows, vectors)
+        rest = motion.rest(None, [row])[0]
         self.bounds = tuple(bound[o] + aa * om ** o for o in (2, 3, 4))
         size = sum(abs(self.kx[i]) * abs(z0[i]) + abs(self.kv[i]) * abs(z0[n + i]) for i in range(n))
         self.noise = (TOLERANCE * (abs(self.k0) + noise_size(abs(rest) + bound[0], size + T * bound[1], d) + aa),) + \
@@ -202,7 +207,7 @@ class ModalPiece:
         motion, floors = self.seg.motion, self.floors
         modes = motion.modes
         drifts = modes.weighted_drifts(floors)
-        return motion.bounds(self.tau, 6, range(floors)), [b[3] for b in motion.bounds(self.tau, 4, weighted=drifts)]
+        return motion.bounds(self.tau, 6, range(floors)), [b[3] for b in motion.bounds(self.tau, 4, None, None, drifts)]
 
     def derivatives(self, s, floors):
         """{floor: [x^(lo), ..., x^(hi-1)]} at s of the floors asked for ({floor: (lo, hi)}, hi <= 5)."""

@@ -351,7 +351,7 @@ class StoreyGuards:
         self.motion = motion
         self.n = n = storeys.n
         modes = motion.modes
-        self._keep(storeys.guards(), motion.bounds(T, 6, weighted=modes.weighted_drifts(n)), self._drifts(0.0, 5),
+        self._keep(storeys.guards(), motion.bounds(T, 6, None, None, modes.weighted_drifts(n)), self._drifts(0.0, 5),
                    T, modes.fastest)
 
     def _keep(self, guards, bd, start, T, growth):
@@ -428,7 +428,7 @@ class RegimePiece:
         motion, n = self.motion, self.n
         modes = motion.modes
         drifts = modes.weighted_drifts(n)
-        return motion.bounds(self.tau, 6, range(n)), [b[3] for b in motion.bounds(self.tau, 4, weighted=drifts)]
+        return motion.bounds(self.tau, 6, range(n)), [b[3] for b in motion.bounds(self.tau, 4, None, None, drifts)]
 
     def derivatives(self, s, floors):
         return self.motion.derivatives(s, floors)
