@@ -26,7 +26,7 @@ from .level_model import LevelModel
 from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work, take_peaks
 from .params import ParameterError, check_finite
-from .stepping import at_rest
+from .stepping import at_rest, rest_peaks
 from .peaks import Peaks
 from .storeys import Hysteresis
 from .yielding import StoreyGuards
@@ -165,8 +165,8 @@ class BuildingModel(LevelModel):
 
     def rest_piece(self, tau, ground):
         """follow() over a piece at rest: the floors stay at +0.0, so only the maxima of the absolute
-        velocities may rise, to the ground's (peaks.Peaks.hold); True if one did."""
-        return self.peaks.hold(tau, ground)
+        velocities may rise, to the ground's (stepping.rest_peaks); True if one did."""
+        return rest_peaks(self.peaks, tau, ground)
 
     def get_state(self):
         state = super().get_state()

@@ -124,24 +124,6 @@ class Peaks:
             self._scan(piece, active, values, tau, a_g)
         self.v_ground = vg + a_g * tau
 
-    def hold(self, tau, a_g):
-        """take() of a piece of tau [s] over which every floor stays at rest relative to the ground
-        (displacement, velocity, acceleration and all their derivatives +0.0 or -0.0, a_g zero):
-        the start's absolute velocity is the ground's, |0 + v_g| = |v_g|, which may raise the
-        velocity maxima; every other start value is zero, and with the piece's bounds zero the
-        forward cubic clears the rest of it.  The ground's velocity moves on as in take().
-        True if a maximum rose."""
-        vg = self.v_ground
-        top = abs(vg)
-        raised = False
-        velocity = self.velocity
-        for k in range(self.n):
-            if top > velocity[k]:
-                velocity[k] = top
-                raised = True
-        self.v_ground = vg + a_g * tau
-        return raised
-
     #: the orders of the derivatives of x_k each kind needs, (lo, hi): drift 0..2, v_abs 1..3, a_abs 2..4
     _LEVELS = ((0, 3), (1, 4), (2, 5))
 

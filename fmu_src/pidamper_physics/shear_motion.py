@@ -28,7 +28,7 @@ from .oscillator import DampedOscillator
 from .params import ParameterError, check_building, check_finite
 from .refusals import check_step
 from .peaks import Peaks
-from .stepping import at_rest, unsigned
+from .stepping import at_rest, rest_peaks, unsigned
 
 #: the building of floor masses and storey stiffnesses, checked (params.check_building)
 make_building = check_building
@@ -101,7 +101,7 @@ class ShearMotion:
         if not kicks and self._resting(forces, ground):
             # from q = q' = +0.0 under zero loads each mode's closed form gives +0.0 again
             # (oscillator.DampedOscillator.at: +0.0 plus zeros) and the loads' work adds a zero
-            self.still = not self.peaks.hold(max(t_end - self.t, 0.0), ground)
+            self.still = not rest_peaks(self.peaks, max(t_end - self.t, 0.0), ground)
             self.t = t_end
             return
         self.still = False

@@ -70,6 +70,24 @@ def unsigned(value):
     return value != 0.0 or math.copysign(1.0, value) > 0.0
 
 
+def rest_peaks(peaks, tau, a_g):
+    """peaks.Peaks.take() of a piece of tau [s] over which every floor stays at rest relative to
+    the ground (displacement, velocity, acceleration and all their derivatives zero, a_g zero): the
+    start's absolute velocity is the ground's, |0 + v_g| = |v_g|, which may raise the velocity
+    maxima; every other start value is zero, and with the piece's bounds zero the forward cubic
+    clears the rest of it.  The ground's velocity moves on as in take().  True if a maximum rose."""
+    vg = peaks.v_ground
+    top = abs(vg)
+    raised = False
+    velocity = peaks.velocity
+    for k in range(peaks.n):
+        if top > velocity[k]:
+            velocity[k] = top
+            raised = True
+    peaks.v_ground = vg + a_g * tau
+    return raised
+
+
 def contact_outcome(seg, side):
     """(closing, settles) after a contact on stop `side` (+1: guard 0), from the flight `seg` of
     the post-contact state: closing, the pair still approaches the stop (the first significant
