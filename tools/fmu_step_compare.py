@@ -1,14 +1,22 @@
-"""Step cost of one FMU model, a base revision's build against this tree's (issue 24: the elastic
+"""Step cost of FMU models, a base revision's build against this tree's (issue 24: the elastic
 building's step no slower than before).
 
-    python tools/fmu_step_compare.py --base REV [--model ShearBuilding3] [--runs 5] [--steps 20000]
+    python tools/fmu_step_compare.py --base REV [--model ShearBuilding3 ...] [--host fmpy|native] [--rest]
+                                     [--runs 5] [--steps 20000]
 
-Both trees build the model with their own builder; fmpy's FMU2Slave drives each build as a host
-does: set every input, fmi2DoStep of 0.01 s, read every output and local variable, under a
-Kanai-Tajimi-like random ground acceleration (fixed seed).  The two builds' runs alternate in fresh
-processes; each figure is the median process CPU time per step of `--runs` runs.
+Both trees build the models with their own builder; each host drives each build as hosts do,
+fmi2DoStep of 0.01 s then every output and local variable read:
+- fmpy (default): fmpy's FMU2Slave sets the input a_g to a Kanai-Tajimi-like random ground
+  acceleration (fixed seed) before each step, or leaves every input at zero with --rest, and reads
+  the Real outputs and locals in one fmi2GetReal;
+- native: the C host of pidamper.benchmarks (benchmarks/native/every_output_host.c, compiled here)
+  sets no input (every input zero: a building at rest) and reads every output and local with its
+  own fmi2GetReal / fmi2GetInteger call; its figure is the CPU time of its step loop.
+The two builds' runs alternate in fresh processes; each figure is the median process CPU time per
+step of `--runs` runs.
 """
 import argparse
+import os
 import statistics
 import subprocess
 import sys
@@ -35,7 +43,7 @@ fmu.enterInitializationMode()
 fmu.exitInitializationMode()
 vr = {v.name: v.valueReference for v in md.modelVariables}
 reads = [v.valueReference for v in md.modelVariables if v.causality in ("output", "local") and v.type == "Real"]
-ag = np.random.default_rng(1).normal(0.0, 3.0, steps)
+ag = np.zeros(steps) if sys.argv[3] == "rest" else np.random.default_rng(1).normal(0.0, 3.0, steps)
 t0 = time.process_time()
 for k in range(steps):
     fmu.setReal([vr["a_g"]], [float(ag[k])])
@@ -47,42 +55,78 @@ fmu.freeInstance()
 """
 
 
-def build(tree, out, model):
-    subprocess.run([sys.executable, "-m", "build_fmu", "--out", str(out), "--model", model], cwd=tree, check=True,
+def build(tree, out, models):
+    subprocess.run([sys.executable, "-m", "build_fmu", "--out", str(out), "--model", *models], cwd=tree, check=True,
                    capture_output=True, env={"PYTHONPATH": str(tree), "PATH": "/usr/bin:/bin"})
-    return out / f"{model}.fmu"
+    return [out / f"{model}.fmu" for model in models]
 
 
-def one_run(fmu, steps):
-    out = subprocess.run([sys.executable, "-c", RUNNER, str(fmu), str(steps)], capture_output=True, text=True,
-                         check=True).stdout.split()
+def one_run(fmu, steps, rest=False):
+    out = subprocess.run([sys.executable, "-c", RUNNER, str(fmu), str(steps), "rest" if rest else "input"],
+                         capture_output=True, text=True, check=True).stdout.split()
     return float(out[-1])
+
+
+class NativeHost:
+    """The every-output C host, compiled once; run(fmu, steps) -> CPU us per step of its loop."""
+
+    def __init__(self, tmp):
+        from pidamper.benchmarks.floor import build_every_output_host
+
+        self.exe = build_every_output_host(tmp)
+        self.tmp = Path(tmp)
+        self.unzipped = {}
+
+    def run(self, fmu, steps, rest=True):
+        import fmpy
+
+        if fmu not in self.unzipped:
+            md = fmpy.read_model_description(str(fmu))
+            where = fmpy.extract(str(fmu), unzipdir=str(self.tmp / f"x{len(self.unzipped)}"))
+            reads = [f"{v.type[0]}:{v.valueReference}" for v in md.modelVariables
+                     if v.causality in ("output", "local")]
+            self.unzipped[fmu] = [where, md.coSimulation.modelIdentifier, md.guid] + [str(steps), "0.01"] + reads
+        env = {"PATH": "/usr/local/bin:/usr/bin:/bin", "HOME": os.environ.get("HOME", "/tmp"), "LANG": "C.UTF-8"}
+        done = subprocess.run([str(self.exe)] + self.unzipped[fmu], capture_output=True, text=True, env=env,
+                              check=True, timeout=1800)
+        return float(done.stdout.split()[0])
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--base", required=True)
-    parser.add_argument("--model", default="ShearBuilding3")
+    parser.add_argument("--model", nargs="+", default=["ShearBuilding3"])
+    parser.add_argument("--host", choices=("fmpy", "native"), default="fmpy")
+    parser.add_argument("--rest", action="store_true", help="fmpy: every input zero (the native host sets none)")
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--steps", type=int, default=20000)
     args = parser.parse_args(argv)
+    rest = args.rest or args.host == "native"
+    rows = []
     with tempfile.TemporaryDirectory() as tmp:
         base = Path(tmp) / "base"
         subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(base), args.base], check=True)
         try:
-            old_fmu = build(base, Path(tmp) / "old", args.model)
-            new_fmu = build(ROOT, Path(tmp) / "new", args.model)
-            old, new = [], []
-            for _ in range(args.runs):
-                old.append(one_run(old_fmu, args.steps))
-                new.append(one_run(new_fmu, args.steps))
+            host = NativeHost(tmp) if args.host == "native" else None
+            run = host.run if host else one_run
+            olds, news = build(base, Path(tmp) / "old", args.model), build(ROOT, Path(tmp) / "new", args.model)
+            for model, old_fmu, new_fmu in zip(args.model, olds, news):
+                old, new = [], []
+                for _ in range(args.runs):
+                    old.append(run(old_fmu, args.steps, rest))
+                    new.append(run(new_fmu, args.steps, rest))
+                rows.append((model, statistics.median(old), statistics.median(new)))
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=True)
-    mo, mn = statistics.median(old), statistics.median(new)
-    print(f"Machine: {describe('fmpy')}; {args.model}, {args.steps} steps of 0.01 s, every output and local read "
-          f"each step, median of {args.runs} interleaved runs, process CPU time")
-    print(f"| model | base us/step | new us/step | new / base |\n|---|---:|---:|---:|\n"
-          f"| {args.model} | {mo:.2f} | {mn:.2f} | {mn / mo:.3f} |")
+    what = ("the native C host, no input set (at rest), every output and local read one call each"
+            if args.host == "native" else
+            "fmpy FMU2Slave, " + ("every input zero (at rest)" if rest else "a_g random") +
+            ", every Real output and local read each step")
+    print(f"Machine: {describe('fmpy')}; {what}; {args.steps} steps of 0.01 s, median of {args.runs} interleaved "
+          "runs, process CPU time")
+    print("| model | base us/step | new us/step | new / base |\n|---|---:|---:|---:|")
+    for model, mo, mn in rows:
+        print(f"| {model} | {mo:.2f} | {mn:.2f} | {mn / mo:.3f} |")
 
 
 if __name__ == "__main__":

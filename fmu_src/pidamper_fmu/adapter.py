@@ -94,7 +94,14 @@ class ComponentSlave(FmiEntry, Fmi2Slave):
         return set_value
 
     def _computed_getter(self, k):
-        return lambda: self._computed(self._core_now())[k]
+        return lambda: self._flat_outputs()[k]
+
+    def _outputs_now(self):
+        return self._computed(self._core_now())
+
+    def _inputs(self):
+        values = self._values
+        return tuple([values[name] for name, *_ in self.INPUTS])
 
     # ---- to be provided by the model --------------------------------------------------------
 
@@ -114,6 +121,7 @@ class ComponentSlave(FmiEntry, Fmi2Slave):
 
     def _push(self, core):
         self._pack.pack_into(self._buffer, self._offset, *self._computed(core))
+        self._pushed = (core, self._inputs())
 
     # ---- FMI calls --------------------------------------------------------------------------
 
@@ -131,7 +139,7 @@ class ComponentSlave(FmiEntry, Fmi2Slave):
             self._advance(core, max(current_time + step_size, t))
         except ParameterError as err:
             self._fail(err.name, err.value, err.allowed)
-        if self._native:
+        if self._native and not self._buffer_holds(core, self._inputs()):
             self._push(core)
 
     @guarded(lambda args: None)

@@ -11,6 +11,11 @@ access and the FMI entry points around the model's own `_step` and `_build_core`
   its outputs there after each step, and the layer answers reads from it without entering Python.
   No host can make the model write anywhere else, with the layer or without it (pythonfmu's own
   binary passes every value reference to the model: set_string refuses them all).
+- Outputs are computed once per state: after a step the model packs them into the native layer's
+  buffer in one pass (and skips even that when the physics says the step changed nothing the
+  outputs read: `core.still`, the same inputs bit for bit, no read through Python since); reads
+  through Python (no native layer, or a read between fmi2SetReal and fmi2DoStep) are served from
+  one flat tuple (`_flat_outputs`), computed at the first read after anything changed.
 """
 import ctypes
 import math
@@ -103,6 +108,16 @@ def describe(root, info, outputs):
     return root
 
 
+def same_bits(a, b):
+    """True when the float sequences a and b are equal bit for bit (a zero's sign counts)."""
+    if a != b:
+        return False
+    for x, y in zip(a, b):
+        if x == 0.0 and math.copysign(1.0, x) != math.copysign(1.0, y):
+            return False
+    return True
+
+
 class FmiEntry:
     """Mixin (before Fmi2Slave) of the FMI entry points every adapter shares.  The model keeps
     `_core`, `_initialized`, `_native`, `_t0` and provides `_build_core()` and `_step(t, h)`;
@@ -110,6 +125,29 @@ class FmiEntry:
     layer is in place."""
 
     _t0 = 0.0
+    _flat = None  # the outputs of the current state, once read through Python (None: not yet)
+    _pushed = None  # (core, inputs) whose outputs the native layer's buffer holds, or None
+
+    # ---- outputs served once per state ------------------------------------------------
+
+    def _flat_outputs(self):
+        """The values of the computed variables of the current state, in their order: computed at
+        the first read after anything changed (every FMI call that may change something drops them)."""
+        flat = self._flat
+        if flat is None:
+            flat = self._flat = self._outputs_now()
+        return flat
+
+    def _outputs_now(self):
+        raise NotImplementedError
+
+    def _buffer_holds(self, core, inputs):
+        """True when the buffer already holds the outputs of this step: the physics changed
+        nothing they read (core.still: a building at rest), the buffer was written for this core
+        under the same inputs bit for bit, and no read through Python wrote it since."""
+        pushed = self._pushed
+        return (pushed is not None and pushed[0] is core and getattr(core, "still", False)
+                and same_bits(pushed[1], inputs))
 
     # ---- refusals ---------------------------------------------------------------------
 
@@ -157,6 +195,7 @@ class FmiEntry:
                               "(binaries of another build)")
             array = (ctypes.c_double * count)()
             self._buffer = memoryview(array).cast("B")
+            self._pushed = None
             self._native = True
             self._attached()
             return ctypes.addressof(array)
@@ -171,6 +210,7 @@ class FmiEntry:
 
     @guarded(lambda args: None)
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        self._flat = None
         if not math.isfinite(start_time):
             self._fail("startTime", start_time, "it must be finite")
         self._t0 = float(start_time)
@@ -178,12 +218,14 @@ class FmiEntry:
 
     @guarded(lambda args: None)
     def exit_initialization_mode(self):
+        self._flat = None
         self._core = None
         self._core_now()
         self._initialized = True
         self.log(fmi_text(f"{self.instance_name}: physics {BUILD}", self._native), Fmi2Status.ok)
 
     def do_step(self, current_time, step_size):
+        self._flat = None
         try:
             self._step(current_time, step_size)
         except Exception as err:
@@ -196,6 +238,7 @@ class FmiEntry:
     def _native_step(self, current_time, step_size):
         """fmi2DoStep called by the native layer directly: 0 done, 1 done with messages queued,
         2 refused (its message queued)."""
+        self._flat = None
         try:
             self._step(current_time, step_size)
         except Exception as err:
@@ -215,6 +258,7 @@ class FmiEntry:
         """Restore a state _get_fmu_state wrote (the model's `_restore`); one that does not come
         from this model is refused with a message naming the key, and the instance keeps the state
         it had."""
+        self._flat = None
         previous = self._get_fmu_state()
         try:
             self._restore(state)
@@ -239,21 +283,31 @@ class FmiEntry:
 
     @guarded(lambda args: [math.nan] * len(args[0]))
     def get_real(self, vrs):
+        self._pushed = None  # the native layer writes what it reads through Python into its buffer
         return [float(var.getter()) for var in self._checked(vrs, Real)]
 
     @guarded(lambda args: [0] * len(args[0]))
     def get_integer(self, vrs):
+        self._pushed = None
         return [int(var.getter()) for var in self._checked(vrs, Integer)]
 
     @guarded(lambda args: None)
     def set_real(self, vrs, values):
-        for var, value in zip(self._checked(vrs, Real), values):
-            var.setter(value)
+        self._flat = None
+        try:
+            for var, value in zip(self._checked(vrs, Real), values):
+                var.setter(value)
+        finally:
+            self._flat = None
 
     @guarded(lambda args: None)
     def set_integer(self, vrs, values):
-        for var, value in zip(self._checked(vrs, Integer), values):
-            var.setter(value)
+        self._flat = None
+        try:
+            for var, value in zip(self._checked(vrs, Integer), values):
+                var.setter(value)
+        finally:
+            self._flat = None
 
     def get_string(self, vrs):
         """LINK's value (the native layer reads it); any other value reference is refused at error

@@ -116,7 +116,10 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
                                     else Fmi2Variability.discrete, getter=getter))
 
     def _output_getter(self, k):
-        return lambda: self._outputs()[k]
+        return lambda: self._flat_outputs()[k]
+
+    def _outputs_now(self):
+        return self._outputs()
 
     # ---- the native layer's buffer ----------------------------------------------------
 
@@ -129,6 +132,7 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         buffer = self._buffer
         off_outputs, off_record = self._offsets
         self._PACK_COMPUTED.pack_into(buffer, off_outputs, *self._outputs(core))
+        self._pushed = (core, (self.F, self.a_g))
         if self._in_step or self._record_in_buffer:
             _PACK_RECORD.pack_into(buffer, off_record, *self._record_values)
             self._record_in_buffer = self._in_step > 0
@@ -257,8 +261,8 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
             warning = self._drift.check(core.t, core.model.peaks)
             if warning:
                 self._warn(warning)
-        if self._native:
-            self._push(core)
+        if self._native and (self._record_in_buffer or not self._buffer_holds(core, (force, ground))):
+            self._push(core)  # (the buffer holds no impact record, the step had none: nothing to clear)
 
     def _check_step(self, current_time, step_size, force, ground):
         """Refuse a step that is not finite or goes back, or a non-finite input, naming it."""

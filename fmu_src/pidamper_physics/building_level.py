@@ -26,6 +26,7 @@ from .level_model import LevelModel
 from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work, take_peaks
 from .params import ParameterError, check_finite
+from .stepping import at_rest, rest_peaks
 from .peaks import Peaks
 from .storeys import Hysteresis
 from .yielding import StoreyGuards
@@ -157,6 +158,15 @@ class BuildingModel(LevelModel):
         if self.storeys is not None:
             b = self.p.building
             self._hysteretic = self.storeys.piece(b.drifts(seg.start_floors), b.drifts(seg.floors_at(tau)))
+
+    def resting(self):
+        """The other floors at rest and the storeys elastic (a yielding building keeps its pieces)."""
+        return self.storeys is None and at_rest(self.others)
+
+    def rest_piece(self, tau, ground):
+        """follow() over a piece at rest: the floors stay at +0.0, so only the maxima of the absolute
+        velocities may rise, to the ground's (stepping.rest_peaks); True if one did."""
+        return rest_peaks(self.peaks, tau, ground)
 
     def get_state(self):
         state = super().get_state()

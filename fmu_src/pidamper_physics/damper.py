@@ -36,7 +36,7 @@ from .levels import model_for
 from .params import DISPLACEMENT, Params, ParameterError, check_finite, check_restitution
 from .segments import GAP_RESOLUTION, TOLERANCE
 from .impact import Tally, tally
-from .stepping import CHATTER_HEIGHT, FREE, MAX_PIECES, OUTSIDE, STICK, EventDriven
+from .stepping import CHATTER_HEIGHT, FREE, MAX_PIECES, OUTSIDE, STICK, EventDriven, at_rest, unsigned
 
 __all__ = ["Damper", "check_state", "FREE", "STICK", "OUTSIDE", "CHATTER_HEIGHT", "MAX_PIECES", "STATE_KEYS"]
 
@@ -128,6 +128,7 @@ class Damper(EventDriven):
             check_finite("t_end", t_end)
         if self.halted:  # a collapsed building holds its state; the clock goes on
             self.t, self.t_lo = max(t_end, self.t), 0.0
+            self.still = False
             return
         self._run(t_end, (force / self.p.M - ground, -ground), observe)  # loads per mass: primary, particle
         check = self.x + self.v + self.y + self.u + self.energy + self.work_in
@@ -267,6 +268,20 @@ class Damper(EventDriven):
 
     def _energy(self):
         return self.model.energy(self.x, self.v, self.y, self.u)
+
+    def _resting(self, fc):
+        """At rest: no load (fc, the harmonic), the particle free, every body's position and velocity
+        and the energy +0.0, and a level that rests (a building of elastic storeys whose other
+        floors are at rest too).  A piece from there would be +0.0 again (stepping.at_rest), add
+        zeros to the work and the dashpots' energy, and raise no maximum but by the ground's velocity."""
+        if fc[0] != 0.0 or fc[1] != 0.0 or self.p.F0 != 0.0 or self.mode != FREE:
+            return False
+        resting = self.model.resting
+        return (resting is not None and at_rest((self.x, self.v, self.y, self.u, self.energy))
+                and unsigned(self.work_in) and unsigned(self.viscous) and resting())
+
+    def _rest(self, fc, tau):
+        return self.model.rest_piece(tau, -fc[1])
 
     def _segment(self, fc, horizon):
         """The segment from the current state and mode; fc = (loads per mass on primary, particle)."""

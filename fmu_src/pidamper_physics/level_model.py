@@ -34,6 +34,10 @@ class LevelModel:
     work = None
     #: follow(seg, tau): carry the level's own state along a piece the Damper takes, or None
     follow = None
+    #: resting(): True when the level's own state is at rest (stepping.at_rest), so that a piece
+    #: with the Damper's state at rest and no load changes nothing but rest_piece(tau, a_g)'s
+    #: books; None: the level never skips its pieces
+    resting = None
     #: a yielding building that collapsed holds its state (building_level.BuildingModel)
     collapsed = False
 

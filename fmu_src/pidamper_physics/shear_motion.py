@@ -15,7 +15,9 @@ modal terms q_r' jumps by `Phi[k][r] J`.  A step with impulses at instants insid
 piece by piece between them, so it is exact for held loads and instantaneous impulses.
 
 The state is kept in modal coordinates (q, q'), so stepping never re-projects; floor values are
-derived from it.  The running maxima of the drift ratios and of the floors' absolute velocity and
+derived from it.  A building at rest (q, q' +0.0) under no load or impulse stays there: such a
+step moves only the clock and the ground's velocity (`still` then says that no output changed).
+The running maxima of the drift ratios and of the floors' absolute velocity and
 acceleration (peaks.Peaks) are raised along every piece, the impulses' one-sided values included.
 Plain Python (math): this ships inside the FMU.
 """
@@ -26,6 +28,7 @@ from .oscillator import DampedOscillator
 from .params import ParameterError, check_building, check_finite
 from .refusals import check_step
 from .peaks import Peaks
+from .stepping import at_rest, rest_peaks, unsigned
 
 #: the building of floor masses and storey stiffnesses, checked (params.check_building)
 make_building = check_building
@@ -51,6 +54,7 @@ class ShearMotion:
         self.modes = [DampedOscillator(w, building.zeta) for w in building.omegas]
         self.set_floors(x0, v0)
         self.peaks = Peaks(building.heights)
+        self.still = False  # the last step found the building at rest and changed no output
         self.work_in = 0.0  # work of the held loads (relative frame) and the impulses [J]; the
         # dashpots took E(0) + work_in - E (nothing else dissipates)
         self.energy0 = self.energy()
@@ -93,9 +97,16 @@ class ShearMotion:
         those times (clamped into [t, t_end])."""
         b, n = self.b, self.n
         check_step(self.t, t_end, forces, ground)
+        kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0)
+        if not kicks and self._resting(forces, ground):
+            # from q = q' = +0.0 under zero loads each mode's closed form gives +0.0 again
+            # (oscillator.DampedOscillator.at: +0.0 plus zeros) and the loads' work adds a zero
+            self.still = not rest_peaks(self.peaks, max(t_end - self.t, 0.0), ground)
+            self.t = t_end
+            return
+        self.still = False
         phi, m = b.shapes, b.masses
         loads = [sum(phi[k][r] * (forces[k] - m[k] * ground) for k in range(n)) for r in range(n)]
-        kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0)
         t = self.t
         q0 = list(self.q)
         for t_k, k, j in kicks:
@@ -109,6 +120,15 @@ class ShearMotion:
         self.t = t_end
         # the held loads' work: sum_k f_k dx_k = sum_r (Phi^T f)_r dq_r
         self.work_in += sum(p * (b - a) for p, a, b in zip(loads, q0, self.q))
+
+    def _resting(self, forces, ground):
+        """No load, the modes at +0.0 (stepping.at_rest) and the work not -0.0 (stepping.unsigned)."""
+        if ground != 0.0:
+            return False
+        for f in forces:
+            if f != 0.0:
+                return False
+        return at_rest(self.q) and at_rest(self.qd) and unsigned(self.work_in)
 
     def drift_reach(self, t_end, forces, ground=0.0, impulses=()):
         """Per storey a bound of |drift| [m] over the step that advance(t_end, forces, ground,

@@ -30,6 +30,9 @@ events.MAX_PASSES passes).  Hence passes <= h / _max_span + 2 (events + 1) for t
 models (the nonlinear level adds its integrator steps, seg.reach): finite, as the events are
 (chatter collapses below CHATTER_HEIGHT), and capped at max_pieces, so no input makes a call run
 on without bound.
+A model at rest (`_resting`: every value of its state exactly +0.0, no load) takes no segments:
+the closed form from there is +0.0 again, so each piece only ticks the clock and lets the model
+book what rest changes (`_rest`); `still` then says that the call changed no output.
 Plain Python (math): this ships inside the FMU.
 """
 import math
@@ -51,6 +54,40 @@ CHATTER_HEIGHT = 16.0  # rebound apex, in position-rounding units, below which c
 MAX_PIECES = 10000
 
 
+def at_rest(values):
+    """True when every value is +0.0 exactly.  A closed form started from +0.0 under no load gives
+    +0.0 again (each component is +0.0 plus terms that are zeros of either sign), whereas a -0.0
+    start may come out as +0.0: such a state takes the full step once."""
+    for value in values:
+        if value != 0.0 or math.copysign(1.0, value) < 0.0:
+            return False
+    return True
+
+
+def unsigned(value):
+    """False for -0.0 only: an accumulator a step adds a zero of either sign to keeps its value
+    bit for bit unless it is -0.0 (-0.0 + 0.0 is +0.0)."""
+    return value != 0.0 or math.copysign(1.0, value) > 0.0
+
+
+def rest_peaks(peaks, tau, a_g):
+    """peaks.Peaks.take() of a piece of tau [s] over which every floor stays at rest relative to
+    the ground (displacement, velocity, acceleration and all their derivatives zero, a_g zero): the
+    start's absolute velocity is the ground's, |0 + v_g| = |v_g|, which may raise the velocity
+    maxima; every other start value is zero, and with the piece's bounds zero the forward cubic
+    clears the rest of it.  The ground's velocity moves on as in take().  True if a maximum rose."""
+    vg = peaks.v_ground
+    top = abs(vg)
+    raised = False
+    velocity = peaks.velocity
+    for k in range(peaks.n):
+        if top > velocity[k]:
+            velocity[k] = top
+            raised = True
+    peaks.v_ground = vg + a_g * tau
+    return raised
+
+
 def contact_outcome(seg, side):
     """(closing, settles) after a contact on stop `side` (+1: guard 0), from the flight `seg` of
     the post-contact state: closing, the pair still approaches the stop (the first significant
@@ -68,6 +105,7 @@ class EventDriven:
 
     _passes_through = False  # angle form: a closing pair passes through the stop
     _coaster = None  # the model's segment-free free flight (coast(state..., fx, fy, T)), if any
+    still = False  # the last call changed nothing but the clock (it found the model at rest)
 
     def _start_clock(self, t0):
         """Clock at t0 [s], mode FREE, no work cap."""
@@ -102,6 +140,7 @@ class EventDriven:
         impacts = self.impacts
         ready = None  # a flight segment already built at the current state by the last event
         coast = self._coaster if observe is None else None
+        rest = still = observe is None and self._resting(loads)  # nothing moves: no segment to build
         while self.t < t_end:
             pieces += 1
             if pieces > cap:
@@ -111,6 +150,13 @@ class EventDriven:
                 self.t, self.t_lo = t_end, self.t_lo + (self.t - t_end)
                 break
             span = min(horizon, self._max_span)
+            if rest:  # the piece _move would take, minus the motion: the clock and the model's books
+                if self._rest(loads, span):
+                    still = False
+                self.t, self.t_lo = self._tick(span, t_end if span == horizon else None)
+                self.fresh = False
+                self._may_coast = True
+                continue
             if coast is not None and ready is None and self._may_coast and self.mode == FREE:
                 state = coast(self.x, self.v, self.y, self.u, loads[0], loads[1], span)  # None: a stop within reach
                 if state is not None:
@@ -139,6 +185,16 @@ class EventDriven:
                 self.t, self.t_lo = t_end, 0.0
                 break
         self.pieces = pieces
+        self.still = still
+
+    def _resting(self, loads):
+        """True when the state is exactly at rest under `loads` (see at_rest): a piece then
+        changes nothing but the clock and what _rest books.  A model that can tell overrides this."""
+        return False
+
+    def _rest(self, loads, tau):
+        """Book a piece of tau [s] at rest (after _resting); True if an output changed."""
+        raise NotImplementedError
 
     def _tick(self, tau, t_end):
         """(t, t_lo) of the clock moved by tau (two-sum; t_end: the piece ends there exactly)."""
