@@ -308,6 +308,7 @@ class Motion:
         if self.secular:
             for i, k in enumerate(self.secular):
                 d[k] += self.beta[i]
+        s = c = 0.0  # the harmonic's sin and cos (forced only)
         if self.forced:
             s, c = self.load(tau)
             d = [x + g * s for x, g in zip(d, self.gamma)]
