@@ -23,7 +23,7 @@ from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work
 from .nonlinear import NonlinearModel
 from .params import COUPLED, LEVELS, LINEAR, ParameterError
-from .segments import Flight, Outside, Stick, coast
+from .segments import Outside, coast, flight, stick
 
 
 class _Displacements(LevelModel):
@@ -73,13 +73,13 @@ class LinearModel(_Displacements):
         self.coast = None if p.F0 else functools.partial(coast, p)
 
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
-        return Flight(self.p, x, v, y, u, fc[0], fc[1], psi, T, always_bound)
+        return flight(self.p, x, v, y, u, fc[0], fc[1], psi, T, always_bound)
 
     def outside(self, x, v, y, u, fc, psi, T, side):
         return Outside(self.p, x, v, y, u, fc[0], fc[1], psi, T, side)
 
     def stick(self, x, v, side, fc, psi, T):
-        return Stick(self.p, x, v, side, fc[0], fc[1], psi, T)
+        return stick(self.p, x, v, side, fc[0], fc[1], psi, T)
 
     def energy(self, x, v, y, u):
         p = self.p

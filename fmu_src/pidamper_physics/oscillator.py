@@ -37,6 +37,10 @@ class Oscillator:
     __slots__ = ("w", "ww", "xe", "A", "B", "R", "x0", "v0", "wa", "a", "om", "sp", "cp", "hs", "hd")
 
     def __init__(self, w, x0, v0, c=0.0, a=0.0, om=0.0, psi=0.0):
+        self._init(w, x0, v0, c, a, om, psi)
+
+    def _init(self, w, x0, v0, c, a, om, psi):
+        """__init__'s body (typed in the compiled build: oscillator.pxd)."""
         ww = w * w
         self.w = w
         self.ww = ww
@@ -130,10 +134,23 @@ class Oscillator:
                     ww * ww * ww * R)
         om = self.om
         xh, vh = self.harmonic_bounds(T)
-        p = [R + xh, min(w * R, abs(self.v0) + ww * R * T) + vh]
-        for k in range(5):
-            p.append(ww * p[k] + a * om ** k)
-        return tuple(p)
+        # p[k + 2] = ww * p[k] + a * om ** k, written out (om ** 0 = 1.0, om ** 1 = om exactly)
+        p0 = R + xh
+        p1 = min(w * R, abs(self.v0) + ww * R * T) + vh
+        p2 = ww * p0 + a * 1.0
+        p3 = ww * p1 + a * om
+        p4 = ww * p2 + a * om ** 2
+        p5 = ww * p3 + a * om ** 3
+        p6 = ww * p4 + a * om ** 4
+        return p0, p1, p2, p3, p4, p5, p6
+
+
+def oscillator(w, x0, v0, c, a, om, psi):
+    """Oscillator(w, x0, v0, c, a, om, psi), every argument given: built without the call of
+    __init__ (in the compiled build a C call)."""
+    osc = Oscillator.__new__(Oscillator)
+    osc._init(w, x0, v0, c, a, om, psi)
+    return osc
 
 
 class DampedOscillator:
