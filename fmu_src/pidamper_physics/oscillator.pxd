@@ -1,6 +1,7 @@
 # Types for the compiled build of oscillator.py (Cython, pure-Python mode): the undamped closed form
 # (the pendulum's linear level) as a typed class in C doubles.
 import cython
+from libc cimport math as _libm
 
 
 cdef class Oscillator:

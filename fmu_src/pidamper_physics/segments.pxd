@@ -1,6 +1,7 @@
 # Types for the compiled build of segments.py (Cython, pure-Python mode): the linear level's free
 # flight and ride as typed classes in C doubles (Outside stays a Python subclass of Flight).
 import cython
+from libc cimport math as _libm
 
 from .oscillator cimport Oscillator, oscillator
 

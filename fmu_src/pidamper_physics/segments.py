@@ -15,6 +15,8 @@ fy = -a_g on the particle (a_g the ground acceleration of a base excitation), an
 built-in harmonic at phase psi = Omega t0 + phi.  See events.py for the guard protocol.
 """
 import math
+import math as _libm  # sin, cos: in the compiled build libc's (segments.pxd: from libc cimport math as _libm), the
+# very functions CPython's math.sin and math.cos call (math.hypot is CPython's own: kept from math)
 
 from .oscillator import oscillator
 
@@ -56,8 +58,8 @@ def coast(p, x, v, y, u, fx, fy, T):
         if not zmax < D - TOLERANCE * (D + noise_size(swing, zmax, D)) * growth:
             return None
     h2, h1 = 0.5 * w2 * T, 0.5 * w1 * T
-    sh2, sh1 = math.sin(h2), math.sin(h1)
-    s2, s1 = 2.0 * sh2 * math.cos(h2), 2.0 * sh1 * math.cos(h1)  # sin(w T)
+    sh2, sh1 = _libm.sin(h2), _libm.sin(h1)
+    s2, s1 = 2.0 * sh2 * _libm.cos(h2), 2.0 * sh1 * _libm.cos(h1)  # sin(w T)
     o2, o1 = 2.0 * sh2 * sh2, 2.0 * sh1 * sh1  # 1 - cos(w T)
     return x + b2 * s2 - a2 * o2, v - v * o2 - w2 * a2 * s2, y + b1 * s1 - a1 * o1, u - u * o1 - w1 * a1 * s1
 
@@ -118,8 +120,8 @@ class Flight:
         """Oscillator.state of both bodies without the harmonic, inline: (x, v, y, u) at tau."""
         w2, w1 = self.w2, self.w1
         h2, h1 = 0.5 * w2 * tau, 0.5 * w1 * tau
-        sh2, sh1 = math.sin(h2), math.sin(h1)
-        s2, s1 = 2.0 * sh2 * math.cos(h2), 2.0 * sh1 * math.cos(h1)  # sin(w tau)
+        sh2, sh1 = _libm.sin(h2), _libm.sin(h1)
+        s2, s1 = 2.0 * sh2 * _libm.cos(h2), 2.0 * sh1 * _libm.cos(h1)  # sin(w tau)
         o2, o1 = 2.0 * sh2 * sh2, 2.0 * sh1 * sh1  # 1 - cos(w tau)
         v, u, a2, a1 = self.v0, self.u0, self.a2, self.a1
         return (self.x0 + self.b2 * s2 - a2 * o2, v - v * o2 - w2 * a2 * s2,
