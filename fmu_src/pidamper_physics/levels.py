@@ -23,7 +23,7 @@ from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work
 from .nonlinear import NonlinearModel
 from .params import COUPLED, LEVELS, LINEAR, ParameterError
-from .segments import Flight, Outside, Stick, coast
+from .segments import Outside, coast, flight, stick
 
 
 class _Displacements(LevelModel):
@@ -73,17 +73,16 @@ class LinearModel(_Displacements):
         self.coast = None if p.F0 else functools.partial(coast, p)
 
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
-        return Flight(self.p, x, v, y, u, fc[0], fc[1], psi, T, always_bound)
+        return flight(self.p, x, v, y, u, fc[0], fc[1], psi, T, always_bound)
 
     def outside(self, x, v, y, u, fc, psi, T, side):
         return Outside(self.p, x, v, y, u, fc[0], fc[1], psi, T, side)
 
     def stick(self, x, v, side, fc, psi, T):
-        return Stick(self.p, x, v, side, fc[0], fc[1], psi, T)
+        return stick(self.p, x, v, side, fc[0], fc[1], psi, T)
 
     def energy(self, x, v, y, u):
-        p = self.p
-        return 0.5 * p.M * (v * v + p.w2 * p.w2 * x * x) + 0.5 * p.m * (u * u + p.w1 * p.w1 * y * y)
+        return _linear_energy(self.p, x, v, y, u)
 
     def particle_swing(self, x, v, y, u):
         """Particle displacement and velocity relative to its pivot [m, m/s]."""
@@ -190,6 +189,12 @@ class ModalModel(_Displacements):
         held = p.M * fc[0] * (after[0] - before[0]) + p.m * fc[1] * (after[2] - before[2])
         w = held + p.M * harmonic_work(seg, tau, p.F0 / p.M, p.Omega, psi, _primary_velocity)
         return w, w - e_change
+
+
+def _linear_energy(p, x, v, y, u):
+    """LinearModel.energy: the two oscillators' energy [J] (typed in the compiled build: levels.pxd)."""
+    M, m, w2, w1 = p.M, p.m, p.w2, p.w1
+    return 0.5 * M * (v * v + w2 * w2 * x * x) + 0.5 * m * (u * u + w1 * w1 * y * y)
 
 
 def _primary_velocity(seg, tau):

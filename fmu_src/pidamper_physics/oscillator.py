@@ -29,6 +29,8 @@ exact for every Omega >= 0: at exact resonance (secular growth) and next to it (
 0/0 cancellation).
 """
 import math
+import math as _libm  # sin, cos: in the compiled build libc's (oscillator.pxd: from libc cimport math as _libm), the
+# very functions CPython's math.sin and math.cos call (math.hypot is CPython's own: kept from math)
 
 
 class Oscillator:
@@ -37,6 +39,10 @@ class Oscillator:
     __slots__ = ("w", "ww", "xe", "A", "B", "R", "x0", "v0", "wa", "a", "om", "sp", "cp", "hs", "hd")
 
     def __init__(self, w, x0, v0, c=0.0, a=0.0, om=0.0, psi=0.0):
+        self._init(w, x0, v0, c, a, om, psi)
+
+    def _init(self, w, x0, v0, c, a, om, psi):
+        """__init__'s body (typed in the compiled build: oscillator.pxd)."""
         ww = w * w
         self.w = w
         self.ww = ww
@@ -49,8 +55,8 @@ class Oscillator:
         self.a = a
         self.om = om
         if a != 0.0:
-            self.sp = math.sin(psi)
-            self.cp = math.cos(psi)
+            self.sp = _libm.sin(psi)
+            self.cp = _libm.cos(psi)
             self.hs = 0.5 * (om + w)  # half sum of the frequencies
             self.hd = 0.5 * (om - w)  # half difference
 
@@ -58,8 +64,8 @@ class Oscillator:
         """(x, dx, sin, cos) at tau; sin and cos are those of Omega tau + psi (0 unforced)."""
         if self.a == 0.0:
             h = 0.5 * self.w * tau
-            sh = math.sin(h)
-            s = 2.0 * sh * math.cos(h)  # sin(w tau)
+            sh = _libm.sin(h)
+            s = 2.0 * sh * _libm.cos(h)  # sin(w tau)
             omc = 2.0 * sh * sh  # 1 - cos(w tau)
             v0 = self.v0
             return self.x0 + self.B * s - self.A * omc, v0 - v0 * omc - self.wa * s, 0.0, 0.0
@@ -84,10 +90,10 @@ class Oscillator:
         w = self.w
         hs = self.hs
         u = self.hd * tau
-        ss = math.sin(hs * tau)
-        cs = math.cos(hs * tau)
-        sd = math.sin(u)
-        cd = math.cos(u)
+        ss = _libm.sin(hs * tau)
+        cs = _libm.cos(hs * tau)
+        sd = _libm.sin(u)
+        cd = _libm.cos(u)
         s = ss * cd - cs * sd  # sin(w tau)
         co = cs * cd + ss * sd  # cos(w tau)
         so = ss * cd + cs * sd  # sin(Omega tau)
@@ -99,7 +105,7 @@ class Oscillator:
         sp = self.sp
         cp = self.cp
         om = self.om
-        hw = math.sin(0.5 * w * tau)
+        hw = _libm.sin(0.5 * w * tau)
         omc = 2.0 * hw * hw  # 1 - cos(w tau), without cancellation
         v0 = self.v0
         x = self.x0 + self.B * s - self.A * omc + a * (sp * dc + cp * ds)
@@ -130,10 +136,23 @@ class Oscillator:
                     ww * ww * ww * R)
         om = self.om
         xh, vh = self.harmonic_bounds(T)
-        p = [R + xh, min(w * R, abs(self.v0) + ww * R * T) + vh]
-        for k in range(5):
-            p.append(ww * p[k] + a * om ** k)
-        return tuple(p)
+        # p[k + 2] = ww * p[k] + a * om ** k, written out (om ** 0 = 1.0, om ** 1 = om exactly)
+        p0 = R + xh
+        p1 = min(w * R, abs(self.v0) + ww * R * T) + vh
+        p2 = ww * p0 + a * 1.0
+        p3 = ww * p1 + a * om
+        p4 = ww * p2 + a * om ** 2
+        p5 = ww * p3 + a * om ** 3
+        p6 = ww * p4 + a * om ** 4
+        return p0, p1, p2, p3, p4, p5, p6
+
+
+def oscillator(w, x0, v0, c, a, om, psi):
+    """Oscillator(w, x0, v0, c, a, om, psi), every argument given: built without the call of
+    __init__ (in the compiled build a C call)."""
+    osc = Oscillator.__new__(Oscillator)
+    osc._init(w, x0, v0, c, a, om, psi)
+    return osc
 
 
 class DampedOscillator:
@@ -162,8 +181,8 @@ class DampedOscillator:
         """(q, q') at tau >= 0."""
         s, v0 = self.s, self.v0
         half = 0.5 * self.wd * tau
-        sh = math.sin(half)
-        sn = 2.0 * sh * math.cos(half)  # sin(wd tau)
+        sh = _libm.sin(half)
+        sn = 2.0 * sh * _libm.cos(half)  # sin(wd tau)
         omc = 2.0 * sh * sh  # 1 - cos(wd tau)
         if s == 0.0:
             ec_m1, es = -omc, sn

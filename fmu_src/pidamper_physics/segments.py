@@ -15,8 +15,10 @@ fy = -a_g on the particle (a_g the ground acceleration of a base excitation), an
 built-in harmonic at phase psi = Omega t0 + phi.  See events.py for the guard protocol.
 """
 import math
+import math as _libm  # sin, cos: in the compiled build libc's (segments.pxd: from libc cimport math as _libm), the
+# very functions CPython's math.sin and math.cos call (math.hypot is CPython's own: kept from math)
 
-from .oscillator import Oscillator
+from .oscillator import oscillator
 
 _EPS = 2.220446049250313e-16
 _ULPS = 64.0  # rounding allowance of a computed guard, in units of eps * its scale
@@ -56,8 +58,8 @@ def coast(p, x, v, y, u, fx, fy, T):
         if not zmax < D - TOLERANCE * (D + noise_size(swing, zmax, D)) * growth:
             return None
     h2, h1 = 0.5 * w2 * T, 0.5 * w1 * T
-    sh2, sh1 = math.sin(h2), math.sin(h1)
-    s2, s1 = 2.0 * sh2 * math.cos(h2), 2.0 * sh1 * math.cos(h1)  # sin(w T)
+    sh2, sh1 = _libm.sin(h2), _libm.sin(h1)
+    s2, s1 = 2.0 * sh2 * _libm.cos(h2), 2.0 * sh1 * _libm.cos(h1)  # sin(w T)
     o2, o1 = 2.0 * sh2 * sh2, 2.0 * sh1 * sh1  # 1 - cos(w T)
     return x + b2 * s2 - a2 * o2, v - v * o2 - w2 * a2 * s2, y + b1 * s1 - a1 * o1, u - u * o1 - w1 * a1 * s1
 
@@ -74,9 +76,13 @@ class Flight:
                  "w2", "x0", "v0", "a2", "b2", "w1", "y0", "u0", "a1", "b1")
 
     def __init__(self, p, x, v, y, u, fx, fy, psi, T, always_bound=False):
+        self._init(p, x, v, y, u, fx, fy, psi, T, always_bound)
+
+    def _init(self, p, x, v, y, u, fx, fy, psi, T, always_bound):
+        """__init__'s body (typed in the compiled build: segments.pxd)."""
         a = p.F0 / p.M
-        self.px = px = Oscillator(p.w2, x, v, fx, a, p.Omega, psi)
-        self.py = py = Oscillator(p.w1, y, u, fy)
+        self.px = px = oscillator(p.w2, x, v, fx, a, p.Omega, psi)
+        self.py = py = oscillator(p.w1, y, u, fy, 0.0, 0.0, 0.0)
         cx, cy, D = p.cx, p.cy, p.D
         self.cx, self.cy, self.D = cx, cy, D
         self.sgn = 0
@@ -114,8 +120,8 @@ class Flight:
         """Oscillator.state of both bodies without the harmonic, inline: (x, v, y, u) at tau."""
         w2, w1 = self.w2, self.w1
         h2, h1 = 0.5 * w2 * tau, 0.5 * w1 * tau
-        sh2, sh1 = math.sin(h2), math.sin(h1)
-        s2, s1 = 2.0 * sh2 * math.cos(h2), 2.0 * sh1 * math.cos(h1)  # sin(w tau)
+        sh2, sh1 = _libm.sin(h2), _libm.sin(h1)
+        s2, s1 = 2.0 * sh2 * _libm.cos(h2), 2.0 * sh1 * _libm.cos(h1)  # sin(w tau)
         o2, o1 = 2.0 * sh2 * sh2, 2.0 * sh1 * sh1  # 1 - cos(w tau)
         v, u, a2, a1 = self.v0, self.u0, self.a2, self.a1
         return (self.x0 + self.b2 * s2 - a2 * o2, v - v * o2 - w2 * a2 * s2,
@@ -157,6 +163,14 @@ class Flight:
         return self.D + z, z1, z2, z3
 
 
+def flight(p, x, v, y, u, fx, fy, psi, T, always_bound):
+    """Flight(p, x, v, y, u, fx, fy, psi, T, always_bound), built without the call of __init__ (in
+    the compiled build a C call)."""
+    seg = Flight.__new__(Flight)
+    seg._init(p, x, v, y, u, fx, fy, psi, T, always_bound)
+    return seg
+
+
 class Outside(Flight):
     """Angle form: the bodies pass through stop `sgn`; guard = overlap past the stop."""
 
@@ -185,12 +199,16 @@ class Stick:
     __slots__ = ("osc", "sgn", "d", "k", "base", "a", "om", "bounds", "noise", "growth", "clear")
 
     def __init__(self, p, x, v, sgn, fx, fy, psi, T):
+        self._init(p, x, v, sgn, fx, fy, psi, T)
+
+    def _init(self, p, x, v, sgn, fx, fy, psi, T):
+        """__init__'s body (typed in the compiled build: segments.pxd)."""
         mu, w1, w2, d = p.mu, p.w1, p.w2, p.d
         ww1 = w1 * w1
         big_w = math.sqrt((w2 * w2 + mu * ww1) / (1.0 + mu))
         a = p.F0 / p.M / (1.0 + mu)
         c = (mu * ww1 * sgn * d + fx + mu * fy) / (1.0 + mu)
-        self.osc = osc = Oscillator(big_w, x, v, c, a, p.Omega, psi)
+        self.osc = osc = oscillator(big_w, x, v, c, a, p.Omega, psi)
         self.sgn, self.d, self.a, self.om = sgn, d, a, p.Omega
         self.k = k = ww1 - osc.ww
         # N/m = x'' + w1^2 (x - sgn d) - fy = k x + base + a sin(...), base = c - w1^2 sgn d - fy
@@ -198,18 +216,20 @@ class Stick:
         # restoring force does not cancel)
         self.base = c - ww1 * sgn * d - fy
         P = osc.bounds(T)
+        P0, P1, P2, P3, P4 = P[0], P[1], P[2], P[3], P[4]
         aa, om = abs(a), p.Omega
-        self.bounds = tuple(abs(k) * P[j] + aa * om ** j for j in (2, 3, 4))
+        self.bounds = (abs(k) * P2 + aa * om ** 2, abs(k) * P3 + aa * om ** 3, abs(k) * P4 + aa * om ** 4)
         tol = TOLERANCE
         self.growth = max(big_w, p.Omega_acting)
         lo, hi = osc.reach(T)
-        size = noise_size(abs(osc.xe) + P[0], max(-lo, hi), d)
-        self.noise = (tol * (abs(k) * size + abs(c) + ww1 * d + aa + abs(fy)),
-                      tol * (abs(k) * P[1] + aa * om),
-                      tol * (abs(k) * (P[2] + abs(c)) + aa * om * om),
-                      tol * (abs(k) * P[3] + aa * om ** 3))
+        size = noise_size(abs(osc.xe) + P0, max(-lo, hi), d)
+        n0 = tol * (abs(k) * size + abs(c) + ww1 * d + aa + abs(fy))
+        self.noise = (n0,
+                      tol * (abs(k) * P1 + aa * om),
+                      tol * (abs(k) * (P2 + abs(c)) + aa * om * om),
+                      tol * (abs(k) * P3 + aa * om ** 3))
         floor = sgn * self.base + min(sgn * k * lo, sgn * k * hi) - aa  # least s N/m over [0, T]
-        self.clear = floor > self.noise[0] * (1.0 + self.growth * T)
+        self.clear = floor > n0 * (1.0 + self.growth * T)
 
     def positions(self, tau):
         x, v, _, _ = self.osc.state(tau)
@@ -226,3 +246,11 @@ class Stick:
         s, k, a, om = self.sgn, self.k, self.a, self.om
         return (s * (k * x + self.base + a * sf), s * (k * v + a * om * cf),
                 s * (k * x2 - a * om * om * sf), s * (k * x3 - a * om ** 3 * cf))
+
+
+def stick(p, x, v, sgn, fx, fy, psi, T):
+    """Stick(p, x, v, sgn, fx, fy, psi, T), built without the call of __init__ (in the compiled build
+    a C call)."""
+    seg = Stick.__new__(Stick)
+    seg._init(p, x, v, sgn, fx, fy, psi, T)
+    return seg

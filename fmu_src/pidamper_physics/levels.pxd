@@ -1,0 +1,7 @@
+# Types for the compiled build of levels.py (Cython, pure-Python mode): the linear level's energy,
+# read at every piece, in C doubles (the level classes stay Python classes).
+import cython
+
+
+@cython.locals(M=cython.double, m=cython.double, w2=cython.double, w1=cython.double)
+cpdef double _linear_energy(p, double x, double v, double y, double u) except? -1.0
