@@ -2,7 +2,7 @@
 
 Run as `PYTHONPATH=TREE/fmu_src python tools/core_cases.py [--perturb-mu]` (tools/equivalence.py does it for the
 merge-base tree and the new one): it imports `pidamper_physics` from that tree only, steps each case
-with the public API (Damper, DamperUnit, ShearMotion) and prints one JSON object
+with the public API (Damper, DamperUnit, ShearMotion, yielding.building_motion) and prints one JSON object
 {case: [[value, ...] per step]} with every float as its repr, so that two trees can be compared bit
 for bit.  It relies on nothing but the constructors, advance(), observables(), get_state() and
 set_state() that both trees share.
@@ -83,6 +83,41 @@ def unit_cases():
             for mode in (0, 1) for e, z in ((0.5, 0.0), (0.8, 0.03))]
 
 
+def bare_cases():
+    """(name, yield forces [N], ground(t) [m/s2], impulses at step k: [(t offset, floor, J)], steps):
+    the bare yielding 3-storey building with P-Delta (yielding.building_motion): yielding and
+    unloading under a pulse, floor impulses, and a collapse."""
+    pulse = lambda amplitude: (lambda t: amplitude if 0.5 <= t < 0.8 else 0.0)
+    return [("bare-yielding-pulse", [6e5, 5e5, 3e5], pulse(2.0), {}, 600),
+            ("bare-yielding-kicks", [6e5, 5e5, 3e5], lambda t: 3.0 * math.sin(6.0 * t) * math.exp(-0.2 * t),
+             {40: [(0.004, 2, 3e4)], 41: [(0.0, 0, -2e4), (0.01, 1, 1e4)], 200: [(0.005, 2, -5e4)]}, 600),
+            ("bare-yielding-collapse", [3e5, 2.5e5, 1.5e5], pulse(6.0), {}, 300)]
+
+
+def run_bare(yield_forces, ground, kicks, steps):
+    from pidamper_physics.yielding import building_motion
+    m = building_motion([1e5] * 3, [8e7] * 3, [3.0] * 3, 0.02, yield_forces, [0.02] * 3, 1)
+    rows, saved = [], None
+    zero = [0.0] * 3
+    for k in range(1, steps + 1):
+        a = ground((k - 1) * H)
+        m.advance(k * H, zero, a, [((k - 1) * H + dt, f, j) for dt, f, j in kicks.get(k, ())])
+        x, v = m.floors()
+        pk = m.peaks
+        rows.append(x + v + m.absolute_accelerations(zero) + m.storey_forces() + m.plastic_drifts()
+                    + list(pk.drift) + list(pk.velocity) + list(pk.acceleration)
+                    + [m.t, m.energy(), m.base_shear(), m.hysteretic, m.viscous, m.work_in, m.collapsed,
+                       m.storeys.events, m.pieces])
+        if k == steps // 3:
+            saved = json.loads(json.dumps(m.get_state()))
+    m.set_state(saved)
+    for k in range(steps // 3 + 1, steps + 1):
+        m.advance(k * H, zero, ground((k - 1) * H), [((k - 1) * H + dt, f, j) for dt, f, j in kicks.get(k, ())])
+    x, v = m.floors()
+    rows.append(x + v + [m.t, m.energy(), m.hysteretic, m.viscous, m.work_in])
+    return rows
+
+
 def run_unit_with_building(params, steps):
     """The unit on floor 3 of a bare 3-storey building, Gauss-Seidel with the unit's mean force
     (and, impulse-aware, its impulses) passed to the building: the physics of the two FMUs."""
@@ -122,6 +157,11 @@ def main():
     for name, params, steps in unit_cases():
         try:
             out[name] = run_unit_with_building(params, steps)
+        except Exception as err:
+            out[name] = f"{type(err).__name__}: {err}"
+    for name, yield_forces, ground, kicks, steps in bare_cases():
+        try:
+            out[name] = run_bare(yield_forces, ground, kicks, steps)
         except Exception as err:
             out[name] = f"{type(err).__name__}: {err}"
     json.dump({k: v if isinstance(v, str) else [[repr(x) for x in row] for row in v] for k, v in out.items()},

@@ -179,14 +179,14 @@ class Hysteresis:
 
     def held(self):
         """Per floor the storeys' held forces on it [N] in the current regime: -c_i + c_(i+1)."""
-        law, n = self.law, self.n
-        c = [law.offset(i, s, self.dp[i]) for i, s in enumerate(self.regime)] + [0.0]
+        law, n, regime, dp = self.law, self.n, self.regime, self.dp
+        c = [law.offset(i, regime[i], dp[i]) for i in range(n)] + [0.0]
         return [c[i + 1] - c[i] for i in range(n)]
 
     def restoring(self, drifts):
         """Per floor the storeys' force on it [N] (springs and P-Delta; dashpots not included)."""
-        law, n = self.law, self.n
-        f = [law.tangent(i, s) * d + law.offset(i, s, self.dp[i]) for i, (s, d) in enumerate(zip(self.regime, drifts))]
+        law, n, regime, dp = self.law, self.n, self.regime, self.dp
+        f = [law.tangent(i, regime[i]) * drifts[i] + law.offset(i, regime[i], dp[i]) for i in range(n)]
         return [f[i] - (f[i + 1] if i + 1 < n else 0.0) for i in range(n)]
 
     # ---- values -----------------------------------------------------------------------------
@@ -198,15 +198,19 @@ class Hysteresis:
 
     def forces(self, drifts):
         """The bilinear springs' forces [N] (P-Delta not included)."""
-        return [self.law.force(i, d, self.plastic(i, d)) for i, d in enumerate(drifts)]
+        return [self.law.force(i, drifts[i], self.plastic(i, drifts[i])) for i in range(self.n)]
 
     def zero_force_drifts(self, drifts):
         """Per storey the drift at which its spring's force is zero [m]: (1 - b) delta_p."""
-        return [(1.0 - self.law.b[i]) * self.plastic(i, d) for i, d in enumerate(drifts)]
+        return [(1.0 - self.law.b[i]) * self.plastic(i, drifts[i]) for i in range(self.n)]
 
     def strain(self, drifts):
-        """Strain energy of the storeys [J] (P-Delta potential included)."""
-        return sum(self.law.strain(i, d, self.plastic(i, d)) for i, d in enumerate(drifts))
+        """Strain energy of the storeys [J] (P-Delta potential included), summed storey 1 first."""
+        law, e = self.law, 0.0
+        for i in range(self.n):
+            d = drifts[i]
+            e += law.strain(i, d, self.plastic(i, d))
+        return e
 
     # ---- events ---------------------------------------------------------------------------
 
@@ -231,8 +235,9 @@ class Hysteresis:
     def piece(self, d0, d1):
         """Book the hysteretic energy of a piece from drifts d0 to d1: (1 - b) Fy s (d1 - d0) of
         each yielding storey [J]; returns it."""
-        law, e = self.law, 0.0
-        for i, s in enumerate(self.regime):
+        law, e, regime = self.law, 0.0, self.regime
+        for i in range(self.n):
+            s = regime[i]
             if s != ELASTIC:
                 e += (1.0 - law.b[i]) * law.Fy[i] * s * (d1[i] - d0[i])
         self.hysteretic += e

@@ -12,6 +12,7 @@ cdef class StoreyGuards:
     cdef public double growth
     cdef public bint clear
     cdef public Py_ssize_t n
+    cdef public list floors
 
     @cython.locals(b2=cython.double, b3=cython.double, b4=cython.double, n0=cython.double, n1=cython.double,
                    n2=cython.double, n3=cython.double, kept=list, i=cython.Py_ssize_t, order=cython.Py_ssize_t,
@@ -19,7 +20,7 @@ cdef class StoreyGuards:
                    least=cython.double)
     cpdef _keep(self, guards, list bd, list start, double T, double growth)
 
-    @cython.locals(lo=cython.Py_ssize_t, d=list, out=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t, a=list, b=list)
+    @cython.locals(lo=cython.Py_ssize_t)
     cpdef list _drifts(self, double tau, Py_ssize_t orders, Py_ssize_t first=*, last=*)
 
     @cython.locals(d=list, out=list, guard=tuple, i=cython.Py_ssize_t, order=cython.Py_ssize_t, coef=cython.double,
@@ -29,3 +30,7 @@ cdef class StoreyGuards:
     @cython.locals(guard=tuple, i=cython.Py_ssize_t, order=cython.Py_ssize_t, coef=cython.double,
                    offset=cython.double, di=list)
     cpdef tuple derivs(self, double tau, Py_ssize_t index)
+
+
+@cython.locals(out=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t, a=list, b=list)
+cpdef list _differences(list d, Py_ssize_t first, Py_ssize_t orders)

@@ -80,6 +80,7 @@ class YieldingMotion:
         # the step: its state is then this motion's (the modal one of ShearMotion)
         self.track = ShearMotion(building, t0=self.t)
         self.track.peaks = self.peaks
+        self._booked = None  # (x, drifts, energy) of the state as the last piece left it (see _move)
         self.energy0 = self.energy()
         self.pieces = 0
         self.on_collapse = None  # optional callback(t, reason)
@@ -137,6 +138,8 @@ class YieldingMotion:
 
     def energy(self, x=None, v=None):
         """Kinetic and strain energy [J] (relative motion; P-Delta potential included)."""
+        if x is None and v is None and self._booked is not None and self._booked[0] is self.x:
+            return self._booked[2]  # the state the last piece left: its energy is booked
         x = self.x if x is None else x
         v = self.v if v is None else v
         if self.track is not None:  # elastic: the elastic building's energy
@@ -192,6 +195,7 @@ class YieldingMotion:
         """The step as the elastic building (the track), its work and dashpot energy booked."""
         track = self.track
         e0, w0 = self.energy(), track.work_in
+        self._booked = None
         track.advance(t_end, forces, ground, kicks)
         self.t = t_end
         self.x, self.v = track.floors()
@@ -220,10 +224,11 @@ class YieldingMotion:
             guards = StoreyGuards(self.storeys, motion, span)
             event = locate(guards, span, self.fresh)
             tau = span if event is None else event[0]
-            self._move(motion, tau, forces, ground)
+            self._move(motion, tau, forces, ground, guards.floors)
             self.t = t_stop if event is None and span == t_stop - self.t else self.t + tau
             if event is not None:
                 self.fresh = True
+                self._booked = None  # the storeys' state changes: so may the energy's terms
                 reason = self.storeys.event(guards.guards[event[2]], self.drifts(), self.t)
                 if reason is not None:
                     self._collapse(reason, forces)
@@ -245,24 +250,33 @@ class YieldingMotion:
         """Held loads per mass [m/s2]: (F_k + the storeys' held forces) / m_k - a_g."""
         return [(f + c) / m - ground for f, c, m in zip(forces, self.storeys.held(), self.b.masses)]
 
-    def _move(self, motion, tau, forces, ground):
-        """Take the state at tau of the piece; book its work, hysteretic and dashpot energy and
-        raise the maxima along it."""
+    def _move(self, motion, tau, forces, ground, floors):
+        """Take the state at tau of the piece (floors: per floor its derivatives at the start);
+        book its work, hysteretic and dashpot energy and raise the maxima along it."""
         n = self.n
-        self.peaks.take(RegimePiece(motion, n, tau), tau, ground)
+        self.peaks.take(RegimePiece(motion, n, tau, floors), tau, ground)
         if tau <= 0.0:
             return
-        x0, d0, e0 = self.x, self.drifts(), self.energy()
+        booked = self._booked
+        x0 = self.x
+        if booked is not None and booked[0] is x0:  # the state the last piece left, unchanged since
+            d0, e0 = booked[1], booked[2]
+        else:
+            d0, e0 = self.drifts(), self.energy()
         z = motion.state(tau)
         self.x, self.v = z[:n], z[n:]
+        self._booked = None
         if not all(map(math.isfinite, z)):
             raise ParameterError("a_g, F", (ground, forces), f"the motion left the range of float arithmetic by "
                                  f"t = {self.t!r} s")
         work = sum((f - m * ground) * (b - a) for f, m, a, b in zip(forces, self.b.masses, x0, self.x))
-        hysteretic = self.storeys.piece(d0, self.drifts())
+        d1 = self.drifts()
+        hysteretic = self.storeys.piece(d0, d1)
+        e1 = self.energy()
         self.work_in += work
-        self.viscous += work - hysteretic - (self.energy() - e0)  # what the dashpots took
+        self.viscous += work - hysteretic - (e1 - e0)  # what the dashpots took
         self.fresh = False
+        self._booked = (self.x, d1, e1)
 
     def _collapse(self, reason, forces):
         self.frozen = (self.absolute_accelerations(forces), self.base_shear())
@@ -275,6 +289,7 @@ class YieldingMotion:
         if self.collapsed:
             return
         before = self.v[k]
+        self._booked = None  # the velocities change in place
         self.v[k] += j / self.b.masses[k]
         self.work_in += 0.5 * j * (before + self.v[k])
         if self.storeys.decide(self.drifts(), self.drifts(self.v)):
@@ -308,6 +323,7 @@ class YieldingMotion:
         frozen = state["frozen"]
         if frozen is not None and not (isinstance(frozen, list) and len(frozen) == 2 and len(frozen[0]) == n):
             raise ParameterError("state frozen", frozen, f"None or [{n} accelerations, base shear]")
+        self._booked = None
         self.storeys.set_state(state["storeys"])
         self.peaks.set_state(state["peaks"])
         self.t, self.work_in, self.viscous = float(state["t"]), float(state["work_in"]), float(state["viscous"])
@@ -345,14 +361,16 @@ class StoreyGuards:
     exactly as an elastic one."""
 
     reach = math.inf
-    __slots__ = ("motion", "guards", "bounds", "noise", "growth", "clear", "n")
+    __slots__ = ("motion", "guards", "bounds", "noise", "growth", "clear", "n", "floors")
 
     def __init__(self, storeys, motion, T):
         self.motion = motion
         self.n = n = storeys.n
         modes = motion.modes
-        self._keep(storeys.guards(), motion.bounds(T, 6, None, None, modes.weighted_drifts(n)), self._drifts(0.0, 5),
-                   T, modes.fastest)
+        #: per floor [x, x', ..., x^(4)] at the start (the piece's maxima start from them too)
+        self.floors = motion.component_derivatives(0.0, 0, n, 5)
+        self._keep(storeys.guards(), motion.bounds(T, 6, None, None, modes.weighted_drifts(n)),
+                   _differences(self.floors, 0, 5), T, modes.fastest)
 
     def _keep(self, guards, bd, start, T, growth):
         """Keep the guards that may reach zero on [0, T] (bd: per storey the bounds of its drift's
@@ -385,12 +403,7 @@ class StoreyGuards:
         """Per storey k (first <= k < last, default all) [delta, delta', ..., delta^(orders - 1)] at tau."""
         last = self.n if last is None else last
         lo = first - 1 if first else 0
-        d = self.motion.component_derivatives(tau, lo, last, max(orders, 2))
-        out = [d[0][:orders]] if not first else []
-        for k in range(1, len(d)):
-            a, b = d[k], d[k - 1]
-            out.append([a[j] - b[j] for j in range(orders)])
-        return out
+        return _differences(self.motion.component_derivatives(tau, lo, last, max(orders, 2)), first, orders)
 
     def values(self, tau):
         if not self.guards:
@@ -411,18 +424,28 @@ class StoreyGuards:
         return offset + coef * di[order], coef * di[order + 1], coef * di[order + 2], coef * di[order + 3]
 
 
+def _differences(d, first, orders):
+    """Per storey [delta, ..., delta^(orders - 1)] from the floors' derivatives d (d[0] the floor
+    below the first storey, or floor 1 when first is 0: its storey's drift is its displacement)."""
+    out = [d[0][:orders]] if not first else []
+    for k in range(1, len(d)):
+        a, b = d[k], d[k - 1]
+        out.append([a[j] - b[j] for j in range(orders)])
+    return out
+
+
 class RegimePiece:
-    """A closed-form piece [0, tau] of a YieldingMotion as peaks.Peaks searches it."""
+    """A closed-form piece [0, tau] of a YieldingMotion as peaks.Peaks searches it; `floors`: per
+    floor [x, ..., x^(4)] at its start (StoreyGuards.floors)."""
 
-    __slots__ = ("motion", "n", "tau")
+    __slots__ = ("motion", "n", "tau", "floors")
 
-    def __init__(self, motion, n, tau):
-        self.motion, self.n, self.tau = motion, n, tau
+    def __init__(self, motion, n, tau, floors):
+        self.motion, self.n, self.tau, self.floors = motion, n, tau, floors
 
     def start(self):
-        n = self.n
-        d = self.motion.derivatives(0.0, {k: (0, 5) for k in range(n)})
-        return tuple([d[k][j] for k in range(n)] for j in range(5))
+        d = self.floors
+        return tuple([d[k][j] for k in range(self.n)] for j in range(5))
 
     def bounds(self):
         motion, n = self.motion, self.n
