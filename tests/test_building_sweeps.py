@@ -98,14 +98,14 @@ def _bare_sweep(storeys, m0, k0, zeta, p_delta, theta_c, amplitude, ratio, phase
     impulses = [[(h * (i + rng.random()), rng.randrange(n), kicks * m[-1] * amplitude * G / w1 * rng.uniform(-1, 1))]
                 if kicks and rng.random() < 0.2 else [] for i in range(STEPS)]
     try:
-        rows, work = _run_bare(core, ground, impulses, h)
+        rows, work, scale = _run_bare(core, ground, impulses, h)
     except ParameterError as err:
         _rule(err, STEP_RULES)
         return
     BARE["ran"] += 1
     yielding = isinstance(core, YieldingMotion)
     if yielding:
-        _check_balance(core, work, any(impulses))
+        _check_balance(core, work, scale, any(impulses))
         assert not core.collapsed or "reached the drift ratio" in core.storeys.collapse_reason  # never for want of modes
     never = not yielding or core.storeys.events == 0
     event(f"ran: {'yielding' if yielding and not never else 'elastic'}")
@@ -115,22 +115,23 @@ def _bare_sweep(storeys, m0, k0, zeta, p_delta, theta_c, amplitude, ratio, phase
 
 
 def _run_bare(core, ground, impulses, h):
-    """Rows of (x, v, peaks) per step; the loads' work summed as (F - m a_g) dx over the steps."""
+    """Rows of (x, v, peaks) per step; the loads' work summed as (F - m a_g) dx over the steps;
+    the largest energy and work of the run (the balance's rounding scale)."""
     rows, work, zero = [], 0.0, [0.0] * core.n
     masses = core.b.masses
-    core.scale = 0.0  # the largest energy and work of the run, for the balance's rounding
+    scale = 0.0
     for i, (ag, kicks) in enumerate(zip(ground, impulses)):
         x0 = core.floors()[0]
         core.advance((i + 1) * h, zero, ag, kicks)
         x, v = core.floors()
         work -= ag * sum(mk * (b - a) for mk, a, b in zip(masses, x0, x))
-        core.scale = max(core.scale, core.energy(), abs(core.work_in), abs(work))
+        scale = max(scale, core.energy(), abs(core.work_in), abs(work))
         values = x + v + core.peaks.drift + core.peaks.velocity + core.peaks.acceleration
         assert all(map(math.isfinite, values))
         if isinstance(core, YieldingMotion):
             _check_surfaces(core)
         rows.append(values)
-    return rows, work
+    return rows, work, scale
 
 
 def _check_surfaces(core):
@@ -142,10 +143,10 @@ def _check_surfaces(core):
             assert abs(epp) <= (1.0 - law.b[i]) * law.Fy[i] * (1.0 + 1e-9) + 1e-12 * law.k[i] * abs(d)
 
 
-def _check_balance(core, work, kicked):
+def _check_balance(core, work, scale, kicked):
     """E(0) + work_in = E + viscous + hysteretic, and work_in is the loads' work summed over the
     steps (impulses' work is not observable from the steps: checked without them)."""
-    scale = max(core.scale, core.energy0, core.viscous, core.hysteretic, 1e-300)
+    scale = max(scale, core.energy0, core.viscous, core.hysteretic, 1e-300)
     assert core.energy0 + core.work_in - core.energy() - core.viscous - core.hysteretic == pytest.approx(
         0.0, abs=1e-9 * scale)
     if not kicked:

@@ -22,7 +22,10 @@ cdef class Hysteresis:
     cdef public list heights, regime, dp
     cdef public double theta_c, w, hysteretic, collapse_time
     cdef public Py_ssize_t n
-    cdef public object events, collapsed, collapse_reason, log
+    cdef public object events, collapsed, collapse_reason, log, version
+    cdef public tuple _guards
+
+    cpdef list guards(self)
 
     @cython.locals(law=Storeys, n=cython.Py_ssize_t, regime=list, dp=list, c=list, i=cython.Py_ssize_t)
     cpdef list held(self)

@@ -163,6 +163,8 @@ class Hysteresis:
         self.events = 0
         self.collapsed, self.collapse_reason, self.collapse_time = 0, "", 0.0
         self.log = None  # a list to record (t, storey index, kind) of every event in, if given
+        self.version = 0  # counts the changes of regime and dp: what is derived from them is kept per version
+        self._guards = None  # (version, guards())
 
     # ---- the regime's linear system -----------------------------------------------------
 
@@ -217,7 +219,13 @@ class Hysteresis:
     def guards(self):
         """[(storey, order, coef, const, kind)]: guard = const + coef delta^(order) >= 0, in metres
         (yield surfaces and collapse limits on the drift, order 0; a yielding storey's drift
-        velocity over w, order 1)."""
+        velocity over w, order 1); kept until the regimes or plastic drifts change (do not change it)."""
+        kept = self._guards
+        if kept is None or kept[0] != self.version:
+            kept = self._guards = (self.version, self._make_guards())
+        return kept[1]
+
+    def _make_guards(self):
         law, out = self.law, []
         for i in range(self.n):
             s = self.regime[i]
@@ -247,6 +255,7 @@ class Hysteresis:
         """Apply a guard's zero at time t [s]; returns the collapse reason, or None."""
         i, _, coef, _, kind = guard
         self.events += 1
+        self.version += 1
         if self.log is not None:
             self.log.append((t, i, kind))
         if kind == YIELD:
@@ -280,6 +289,8 @@ class Hysteresis:
                 if abs(e) >= law.reach[i] * (1.0 - 1e-12) and e * rates[i] > 0.0:
                     self.regime[i] = 1 if e > 0.0 else -1
                     changed = True
+        if changed:
+            self.version += 1
         return changed
 
     # ---- state ----------------------------------------------------------------------------
@@ -307,6 +318,7 @@ class Hysteresis:
             raise ParameterError("state storeys collapsed, events", (state["collapsed"], state["events"]),
                                  "collapsed 0 or 1, events an integer >= 0")
         self.regime, self.dp = [int(s) for s in regime], dp
+        self.version += 1
         self.hysteretic, self.events = float(state["hysteretic"]), state["events"]
         self.collapsed, self.collapse_reason = int(state["collapsed"]), str(state["collapse_reason"])
         self.collapse_time = float(state["collapse_time"])

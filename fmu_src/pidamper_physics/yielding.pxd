@@ -2,7 +2,9 @@
 # piece as a typed class, its loops in C doubles.
 import cython
 
-from .modal cimport Motion
+from .modal cimport Modes, Motion
+from .peaks cimport Peaks
+from .storeys cimport Hysteresis
 
 
 cdef class StoreyGuards:
@@ -12,7 +14,8 @@ cdef class StoreyGuards:
     cdef public double growth
     cdef public bint clear
     cdef public Py_ssize_t n
-    cdef public list floors
+    cdef public list floors, drift_bounds
+    cdef public double span
 
     @cython.locals(b2=cython.double, b3=cython.double, b4=cython.double, n0=cython.double, n1=cython.double,
                    n2=cython.double, n3=cython.double, kept=list, i=cython.Py_ssize_t, order=cython.Py_ssize_t,
@@ -32,5 +35,30 @@ cdef class StoreyGuards:
     cpdef tuple derivs(self, double tau, Py_ssize_t index)
 
 
+
+cdef class YieldingMotion:
+    cdef public object b, frozen, track, on_collapse
+    cdef public Py_ssize_t n, pieces
+    cdef public double t, work_in, viscous, energy0, _max_span
+    cdef public list x, v, _c
+    cdef public Hysteresis storeys
+    cdef public bint fresh
+    cdef public Peaks peaks
+    cdef public dict _systems
+    cdef public tuple _regime, _held, _booked
+
+    @cython.locals(span=cython.double, tau=cython.double, motion=Motion, guards=StoreyGuards, event=tuple)
+    cpdef _run(self, double t_stop, forces, double ground)
+
+    @cython.locals(held=tuple)
+    cpdef list _loads(self, forces, double ground)
+
+    @cython.locals(n=cython.Py_ssize_t, booked=tuple, x0=list, x1=list, d0=list, d1=list, e0=cython.double,
+                   e1=cython.double, z=list, work=cython.double, masses=list, k=cython.Py_ssize_t,
+                   hysteretic=cython.double)
+    cpdef _move(self, Motion motion, double tau, forces, double ground, StoreyGuards guards)
+
 @cython.locals(out=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t, a=list, b=list)
 cpdef list _differences(list d, Py_ssize_t first, Py_ssize_t orders)
+
+cpdef bint _same(double a, double b)

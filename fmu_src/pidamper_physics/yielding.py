@@ -55,6 +55,11 @@ def building_motion(masses, stiffnesses, heights, zeta, yield_forces, ratios, p_
     return YieldingMotion(building, law, collapse_drift, t0=t0)
 
 
+def _same(a, b):
+    """a and b are the same float, zeros by their sign too (the loads of -0.0 and +0.0 may differ)."""
+    return a == b and (a != 0.0 or math.copysign(1.0, a) == math.copysign(1.0, b))
+
+
 class YieldingMotion:
     """A shear building with bilinear storeys (see the module doc), at rest at t0.
 
@@ -75,6 +80,8 @@ class YieldingMotion:
         self.frozen = None  # (absolute accelerations, base shear) at the collapse instant
         self.peaks = Peaks(building.heights)
         self._systems = {}  # regime -> Modes, or the reason it has none
+        self._regime = (-1, None)  # (storeys' version, the Modes of their regime)
+        self._held = (-1, None, None, None)  # (storeys' version, forces, ground, loads per mass)
         self._c = [[c / m for c in row] for row, m in zip(building.C, building.masses)]
         # the elastic building, stepped while no storey has yielded and none can reach a limit in
         # the step: its state is then this motion's (the modal one of ShearMotion)
@@ -224,7 +231,7 @@ class YieldingMotion:
             guards = StoreyGuards(self.storeys, motion, span)
             event = locate(guards, span, self.fresh)
             tau = span if event is None else event[0]
-            self._move(motion, tau, forces, ground, guards.floors)
+            self._move(motion, tau, forces, ground, guards)
             self.t = t_stop if event is None and span == t_stop - self.t else self.t + tau
             if event is not None:
                 self.fresh = True
@@ -235,6 +242,14 @@ class YieldingMotion:
 
     def _modes(self):
         """The Modes of the current regime (per mass), once per regime; a string if it has none."""
+        version = self.storeys.version
+        if self._regime[0] == version:
+            return self._regime[1]
+        modes = self._regime_modes()
+        self._regime = (version, modes)
+        return modes
+
+    def _regime_modes(self):
         key = tuple(self.storeys.regime)
         modes = self._systems.get(key)
         if modes is None:
@@ -247,14 +262,21 @@ class YieldingMotion:
         return modes
 
     def _loads(self, forces, ground):
-        """Held loads per mass [m/s2]: (F_k + the storeys' held forces) / m_k - a_g."""
-        return [(f + c) / m - ground for f, c, m in zip(forces, self.storeys.held(), self.b.masses)]
+        """Held loads per mass [m/s2]: (F_k + the storeys' held forces) / m_k - a_g (kept while
+        they and the storeys' state stay the same; do not change the list)."""
+        version = self.storeys.version
+        held = self._held
+        if held[0] == version and _same(held[2], ground) and all(map(_same, held[1], forces)):
+            return held[3]
+        loads = [(f + c) / m - ground for f, c, m in zip(forces, self.storeys.held(), self.b.masses)]
+        self._held = (version, list(forces), ground, loads)
+        return loads
 
-    def _move(self, motion, tau, forces, ground, floors):
-        """Take the state at tau of the piece (floors: per floor its derivatives at the start);
-        book its work, hysteretic and dashpot energy and raise the maxima along it."""
+    def _move(self, motion, tau, forces, ground, guards):
+        """Take the state at tau of the piece (guards: its StoreyGuards); book its work,
+        hysteretic and dashpot energy and raise the maxima along it."""
         n = self.n
-        self.peaks.take(RegimePiece(motion, n, tau, floors), tau, ground)
+        self.peaks.take(RegimePiece(motion, n, tau, guards), tau, ground)
         if tau <= 0.0:
             return
         booked = self._booked
@@ -269,7 +291,9 @@ class YieldingMotion:
         if not all(map(math.isfinite, z)):
             raise ParameterError("a_g, F", (ground, forces), f"the motion left the range of float arithmetic by "
                                  f"t = {self.t!r} s")
-        work = sum((f - m * ground) * (b - a) for f, m, a, b in zip(forces, self.b.masses, x0, self.x))
+        work, masses, x1 = 0.0, self.b.masses, self.x
+        for k in range(n):
+            work += (forces[k] - masses[k] * ground) * (x1[k] - x0[k])
         d1 = self.drifts()
         hysteretic = self.storeys.piece(d0, d1)
         e1 = self.energy()
@@ -361,7 +385,7 @@ class StoreyGuards:
     exactly as an elastic one."""
 
     reach = math.inf
-    __slots__ = ("motion", "guards", "bounds", "noise", "growth", "clear", "n", "floors")
+    __slots__ = ("motion", "guards", "bounds", "noise", "growth", "clear", "n", "floors", "span", "drift_bounds")
 
     def __init__(self, storeys, motion, T):
         self.motion = motion
@@ -369,8 +393,9 @@ class StoreyGuards:
         modes = motion.modes
         #: per floor [x, x', ..., x^(4)] at the start (the piece's maxima start from them too)
         self.floors = motion.component_derivatives(0.0, 0, n, 5)
-        self._keep(storeys.guards(), motion.bounds(T, 6, None, None, modes.weighted_drifts(n)),
-                   _differences(self.floors, 0, 5), T, modes.fastest)
+        #: per storey the bounds of its drift and its derivatives over [0, span]
+        self.span, self.drift_bounds = T, motion.bounds(T, 6, None, None, modes.weighted_drifts(n))
+        self._keep(storeys.guards(), self.drift_bounds, _differences(self.floors, 0, 5), T, modes.fastest)
 
     def _keep(self, guards, bd, start, T, growth):
         """Keep the guards that may reach zero on [0, T] (bd: per storey the bounds of its drift's
@@ -435,23 +460,26 @@ def _differences(d, first, orders):
 
 
 class RegimePiece:
-    """A closed-form piece [0, tau] of a YieldingMotion as peaks.Peaks searches it; `floors`: per
-    floor [x, ..., x^(4)] at its start (StoreyGuards.floors)."""
+    """A closed-form piece [0, tau] of a YieldingMotion as peaks.Peaks searches it; `guards`: the
+    StoreyGuards of the motion (its floors' start values, its drifts' bounds over its span)."""
 
-    __slots__ = ("motion", "n", "tau", "floors")
+    __slots__ = ("motion", "n", "tau", "guards")
 
-    def __init__(self, motion, n, tau, floors):
-        self.motion, self.n, self.tau, self.floors = motion, n, tau, floors
+    def __init__(self, motion, n, tau, guards):
+        self.motion, self.n, self.tau, self.guards = motion, n, tau, guards
 
     def start(self):
-        d = self.floors
-        return tuple([d[k][j] for k in range(self.n)] for j in range(5))
+        d, n = self.guards.floors, self.n
+        return ([d[k][0] for k in range(n)], [d[k][1] for k in range(n)], [d[k][2] for k in range(n)],
+                [d[k][3] for k in range(n)], [d[k][4] for k in range(n)])
 
     def bounds(self):
-        motion, n = self.motion, self.n
-        modes = motion.modes
-        drifts = modes.weighted_drifts(n)
-        return motion.bounds(self.tau, 6, range(n)), [b[3] for b in motion.bounds(self.tau, 4, None, None, drifts)]
+        motion, n, tau, guards = self.motion, self.n, self.tau, self.guards
+        if tau == guards.span:  # the guards' bounds are over this piece (each order's alone)
+            drifts = guards.drift_bounds
+        else:
+            drifts = motion.bounds(tau, 4, None, None, motion.modes.weighted_drifts(n))
+        return motion.bounds(tau, 6, range(n)), [b[3] for b in drifts]
 
     def derivatives(self, s, floors):
         return self.motion.derivatives(s, floors)
