@@ -92,6 +92,21 @@ class NativeHost:
         return float(done.stdout.split()[0])
 
 
+def compare(olds, news, models, host, rest, runs, steps):
+    """[(model, base us/step, this tree's us/step)] of the base's FMUs `olds` and this tree's `news`
+    (build()), the host ("fmpy" or "native") running the two builds alternately, medians of `runs`."""
+    with tempfile.TemporaryDirectory() as tmp:
+        run = NativeHost(tmp).run if host == "native" else one_run
+        rows = []
+        for model, old_fmu, new_fmu in zip(models, olds, news):
+            old, new = [], []
+            for _ in range(runs):
+                old.append(run(old_fmu, steps, rest))
+                new.append(run(new_fmu, steps, rest))
+            rows.append((model, statistics.median(old), statistics.median(new)))
+        return rows
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--base", required=True)
@@ -102,20 +117,12 @@ def main(argv=None):
     parser.add_argument("--steps", type=int, default=20000)
     args = parser.parse_args(argv)
     rest = args.rest or args.host == "native"
-    rows = []
     with tempfile.TemporaryDirectory() as tmp:
         base = Path(tmp) / "base"
         subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(base), args.base], check=True)
         try:
-            host = NativeHost(tmp) if args.host == "native" else None
-            run = host.run if host else one_run
             olds, news = build(base, Path(tmp) / "old", args.model), build(ROOT, Path(tmp) / "new", args.model)
-            for model, old_fmu, new_fmu in zip(args.model, olds, news):
-                old, new = [], []
-                for _ in range(args.runs):
-                    old.append(run(old_fmu, args.steps, rest))
-                    new.append(run(new_fmu, args.steps, rest))
-                rows.append((model, statistics.median(old), statistics.median(new)))
+            rows = compare(olds, news, args.model, args.host, rest, args.runs, args.steps)
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=True)
     what = ("the native C host, no input set (at rest), every output and local read one call each"

@@ -12,6 +12,7 @@ figure is the median of `--runs` runs of process CPU time per step.  Prints the 
 case, each build's us/step, and this tree's plain and compiled builds over the base's like build.
 """
 import argparse
+import contextlib
 import os
 import statistics
 import subprocess
@@ -74,6 +75,45 @@ def compiled_here():
     return said.startswith("compiled")
 
 
+@contextlib.contextmanager
+def base_tree(rev):
+    """A worktree of `rev` (removed afterwards), compiled there when it can compile and this tree is."""
+    with tempfile.TemporaryDirectory() as tmp:
+        base = Path(tmp) / "base"
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(base), rev], check=True)
+        try:
+            if (base / "build_fmu" / "compile.py").is_file() and compiled_here():
+                subprocess.run([sys.executable, "-m", "build_fmu.compile"], cwd=base, check=True, capture_output=True,
+                               env=dict(os.environ, PYTHONPATH=str(base)))
+            yield base
+        finally:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=True)
+
+
+def builds_of(base):
+    """[(label, tree, PIDAMPER_PURE)]: the base as it runs, its compiled build where it has one, this
+    tree's plain and compiled builds."""
+    builds = [("base", base, "1")]
+    if any((base / "fmu_src" / "pidamper_physics").glob("*.so")):
+        builds.append(("base compiled", base, "0"))
+    return builds + [("plain", ROOT, "1")] + ([("compiled", ROOT, "0")] if compiled_here() else [])
+
+
+def measure(builds, cases, runs, steps):
+    """{case: ({label: median us per step}, impacts)}, the builds' runs interleaved; refuses builds
+    that disagree on a case's impacts."""
+    out = {}
+    for case in cases:
+        rows = {label: [] for label, _, _ in builds}
+        for _ in range(runs):
+            for label, tree, pure in builds:
+                rows[label].append(one_run(tree, case, steps, pure))
+        if len({i for label in rows for _, i in rows[label]}) != 1:
+            raise SystemExit(f"{case}: the builds disagree on the impacts: {rows}")
+        out[case] = ({label: statistics.median(c for c, _ in r) for label, r in rows.items()}, rows["base"][0][1])
+    return out
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--base", required=True, help="git revision of the old code (e.g. the merge-base)")
@@ -81,36 +121,20 @@ def main(argv=None):
     parser.add_argument("--steps", type=int, default=20000)
     parser.add_argument("--case", action="append", choices=sorted(CASES), help="only these cases (default: all)")
     args = parser.parse_args(argv)
-    with tempfile.TemporaryDirectory() as tmp:
-        base = Path(tmp) / "base"
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(base), args.base], check=True)
-        try:
-            builds = [("base", base, "1")]
-            if (base / "build_fmu" / "compile.py").is_file() and compiled_here():  # the base's compiled build too
-                subprocess.run([sys.executable, "-m", "build_fmu.compile"], cwd=base, check=True, capture_output=True,
-                               env=dict(os.environ, PYTHONPATH=str(base)))
-                builds.append(("base compiled", base, "0"))
-            builds += [("plain", ROOT, "1")] + ([("compiled", ROOT, "0")] if compiled_here() else [])
-            # each of this tree's builds against the base's like build (the plain one if the base has no other)
-            ratios = [(label, "base compiled" if label == "compiled" and len(builds) == 4 else "base")
-                      for label, _, _ in builds if not label.startswith("base")]
-            print(f"Machine: {describe()}; {args.steps} steps of 0.01 s, median of {args.runs} interleaved runs, "
-                  "process CPU time\n")
-            heads = [f"{label} us/step" for label, _, _ in builds] + [f"{label} / {old}" for label, old in ratios]
-            print("| case | " + " | ".join(heads) + " | impacts |\n|---|" + "---:|" * (len(heads) + 1))
-            for case in args.case or CASES:
-                runs = {label: [] for label, _, _ in builds}
-                for _ in range(args.runs):
-                    for label, tree, pure in builds:
-                        runs[label].append(one_run(tree, case, args.steps, pure))
-                if len({i for label in runs for _, i in runs[label]}) != 1:
-                    raise SystemExit(f"{case}: the builds disagree on the impacts: {runs}")
-                cost = {label: statistics.median(c for c, _ in rows) for label, rows in runs.items()}
-                cells = [f"{cost[label]:.2f}" for label, _, _ in builds]
-                cells += [f"{cost[label] / cost[old]:.3f}" for label, old in ratios]
-                print(f"| {case} | " + " | ".join(cells) + f" | {runs['base'][0][1]} |", flush=True)
-        finally:
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=True)
+    with base_tree(args.base) as base:
+        builds = builds_of(base)
+        # each of this tree's builds against the base's like build (the plain one if the base has no other)
+        ratios = [(label, "base compiled" if label == "compiled" and len(builds) == 4 else "base")
+                  for label, _, _ in builds if not label.startswith("base")]
+        print(f"Machine: {describe()}; {args.steps} steps of 0.01 s, median of {args.runs} interleaved runs, "
+              "process CPU time\n")
+        heads = [f"{label} us/step" for label, _, _ in builds] + [f"{label} / {old}" for label, old in ratios]
+        print("| case | " + " | ".join(heads) + " | impacts |\n|---|" + "---:|" * (len(heads) + 1))
+        for case in args.case or CASES:
+            cost, impacts = measure(builds, [case], args.runs, args.steps)[case]
+            cells = [f"{cost[label]:.2f}" for label, _, _ in builds]
+            cells += [f"{cost[label] / cost[old]:.3f}" for label, old in ratios]
+            print(f"| {case} | " + " | ".join(cells) + f" | {impacts} |", flush=True)
 
 
 if __name__ == "__main__":

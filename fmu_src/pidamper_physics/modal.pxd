@@ -7,20 +7,20 @@ import cython
 @cython.locals(k=cython.Py_ssize_t, z=cython.doublecomplex, a=cython.double, b=cython.double,
                el=cython.doublecomplex, em=cython.doublecomplex, ea=cython.double, h=cython.double,
                omc=cython.double, e0=cython.doublecomplex, c=cython.doublecomplex)
-cpdef list _free(lams, eta0, shift, double tau)
+cpdef list _free(list lams, list eta0, list shift, double tau)
 
 @cython.locals(k=cython.Py_ssize_t, lam=cython.doublecomplex, e=cython.doublecomplex, c=cython.doublecomplex)
-cpdef list _rates(lams, eta, shift)
+cpdef list _rates(list lams, list eta, list shift)
 
 @cython.locals(k=cython.Py_ssize_t, s=cython.double, w=cython.double, v=cython.doublecomplex,
                e=cython.doublecomplex)
-cpdef double _weighted_real(weight, row, eta) except? -1.0
+cpdef double _weighted_real(list weight, list row, list eta) except? -1.0
 
 @cython.locals(k=cython.Py_ssize_t, s=cython.double, v=cython.doublecomplex, e=cython.doublecomplex)
-cpdef double _real_dot(row, eta) except? -1.0
+cpdef double _real_dot(list row, list eta) except? -1.0
 
 @cython.locals(k=cython.Py_ssize_t, s=cython.double, x=cython.double, y=cython.double)
-cpdef double _dot_real(a, b) except? -1.0
+cpdef double _dot_real(list a, list b) except? -1.0
 
 @cython.locals(i=cython.Py_ssize_t, s=cython.doublecomplex)
 cpdef double complex _dot(list w, x, Py_ssize_t offset, Py_ssize_t n) except *

@@ -45,7 +45,14 @@ cdef class YieldingMotion:
     cdef public bint fresh
     cdef public Peaks peaks
     cdef public dict _systems
-    cdef public tuple _regime, _held, _booked
+    cdef public tuple _regime, _held, _booked, _restored
+
+    @cython.locals(booked=tuple)
+    cpdef list _drifts_now(self)
+
+    @cython.locals(booked=tuple, kept=tuple, C=list, n=cython.Py_ssize_t, v=list, r=list, out=list,
+                   i=cython.Py_ssize_t, j=cython.Py_ssize_t, row=list, damping=cython.double)
+    cpdef list _restoring(self)
 
     @cython.locals(span=cython.double, tau=cython.double, motion=Motion, guards=StoreyGuards, event=tuple)
     cpdef _run(self, double t_stop, forces, double ground)

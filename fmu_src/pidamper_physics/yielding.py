@@ -88,6 +88,7 @@ class YieldingMotion:
         self.track = ShearMotion(building, t0=self.t)
         self.track.peaks = self.peaks
         self._booked = None  # (x, drifts, energy) of the state as the last piece left it (see _move)
+        self._restored = None  # (the _booked it belongs to, _restoring() of that state)
         self.energy0 = self.energy()
         self.pieces = 0
         self.on_collapse = None  # optional callback(t, reason)
@@ -110,21 +111,41 @@ class YieldingMotion:
         x = self.x if x is None else x
         return [x[k] - (x[k - 1] if k else 0.0) for k in range(self.n)]
 
+    def _drifts_now(self):
+        """drifts() of the current state, as the last piece booked them if it left this state (do
+        not change the list)."""
+        booked = self._booked
+        if booked is not None and booked[0] is self.x:
+            return booked[1]
+        return self.drifts()
+
     def storey_forces(self):
         """The bilinear springs' forces [N] (P-Delta and dashpots not included), storey 1 first."""
         if self.track is not None:  # elastic: the elastic building's k delta
             return [k * d for k, d in zip(self.b.stiffnesses, self.drifts())]
-        return self.storeys.forces(self.drifts())
+        return self.storeys.forces(self._drifts_now())
 
     def plastic_drifts(self):
         """Per storey the drift at which its spring's force is zero [m]."""
-        return self.storeys.zero_force_drifts(self.drifts())
+        return self.storeys.zero_force_drifts(self._drifts_now())
 
     def _restoring(self):
-        """Per floor the storeys' and dashpots' force on it [N]."""
+        """Per floor the storeys' and dashpots' force on it [N] (kept for the state the last piece
+        left: the accelerations and the base shear both ask; do not change the list)."""
+        booked, kept = self._booked, self._restored
+        if booked is not None and booked[0] is self.x and kept is not None and kept[0] is booked:
+            return kept[1]
         C, n, v = self.b.C, self.n, self.v
-        r = self.storeys.restoring(self.drifts())
-        return [r[i] + sum(C[i][j] * v[j] for j in range(n)) for i in range(n)]
+        r = self.storeys.restoring(self._drifts_now())
+        out = []
+        for i in range(n):
+            row, damping = C[i], 0.0
+            for j in range(n):
+                damping += row[j] * v[j]
+            out.append(r[i] + damping)
+        if booked is not None and booked[0] is self.x:
+            self._restored = (booked, out)
+        return out
 
     def absolute_accelerations(self, forces, x=None, v=None):
         """x_k'' + a_g [m/s2] of every floor under the forces [N] (held from the collapse instant)."""
@@ -141,7 +162,10 @@ class YieldingMotion:
             return self.frozen[1]
         if self.track is not None:
             return self.b.base_shear(self.x, self.v)
-        return sum(self._restoring())
+        total = 0.0
+        for force in self._restoring():
+            total += force
+        return total
 
     def energy(self, x=None, v=None):
         """Kinetic and strain energy [J] (relative motion; P-Delta potential included)."""
