@@ -13,7 +13,7 @@ cdef class StoreyGuards:
     cdef public tuple bounds, noise
     cdef public double growth
     cdef public bint clear
-    cdef public Py_ssize_t n
+    cdef public Py_ssize_t n, first, last
     cdef public list floors, drift_bounds
     cdef public double span
 
@@ -27,7 +27,7 @@ cdef class StoreyGuards:
     cpdef list _drifts(self, double tau, Py_ssize_t orders, Py_ssize_t first=*, last=*)
 
     @cython.locals(d=list, out=list, guard=tuple, i=cython.Py_ssize_t, order=cython.Py_ssize_t, coef=cython.double,
-                   offset=cython.double, di=list)
+                   offset=cython.double, di=list, first=cython.Py_ssize_t)
     cpdef list values(self, double tau)
 
     @cython.locals(guard=tuple, i=cython.Py_ssize_t, order=cython.Py_ssize_t, coef=cython.double,

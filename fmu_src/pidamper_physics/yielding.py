@@ -409,7 +409,8 @@ class StoreyGuards:
     exactly as an elastic one."""
 
     reach = math.inf
-    __slots__ = ("motion", "guards", "bounds", "noise", "growth", "clear", "n", "floors", "span", "drift_bounds")
+    __slots__ = ("motion", "guards", "bounds", "noise", "growth", "clear", "n", "floors", "span", "drift_bounds",
+                 "first", "last")
 
     def __init__(self, storeys, motion, T):
         self.motion = motion
@@ -443,6 +444,9 @@ class StoreyGuards:
             n2 = max(n2, c * (bi[order + 2] + abs(di[order + 2])))
             n3 = max(n3, c * bi[order + 3])
         self.guards = kept
+        # the storeys the kept guards watch lie in [first, last): values() computes only their drifts
+        self.first = min([guard[0] for guard in kept]) if kept else 0
+        self.last = max([guard[0] for guard in kept]) + 1 if kept else 0
         self.bounds = (b2, b3, b4)
         self.noise = (n0, TOLERANCE * n1, TOLERANCE * n2, TOLERANCE * n3)
         self.growth = growth if kept else 0.0
@@ -457,11 +461,12 @@ class StoreyGuards:
     def values(self, tau):
         if not self.guards:
             return []
-        d = self._drifts(tau, 3)
+        first = self.first
+        d = self._drifts(tau, 3, first, self.last)
         out = []
         for guard in self.guards:
             i, order, coef, offset = guard[0], guard[1], guard[2], guard[3]
-            di = d[i]
+            di = d[i - first]
             out.append(offset + coef * di[order])
             out.append(coef * di[order + 1])
         return out
