@@ -32,9 +32,12 @@ cdef class Peaks:
     @cython.locals(need=dict, ih=list, vg=cython.double, out=list, q=tuple, kind=cython.Py_ssize_t,
                    k=cython.Py_ssize_t, lo=cython.Py_ssize_t, ll=cython.Py_ssize_t, hi=cython.Py_ssize_t,
                    h=cython.double, f=cython.double, f1=cython.double, f2=cython.double, dk=list, dl=list)
-    cpdef list _values(self, piece, double s, double a_g, list active)
+    cpdef list _values(self, piece, double s, double a_g, list active, dict need)
 
-    @cython.locals(a=cython.double, b=cython.double, length=cython.double, worst=cython.Py_ssize_t, fb=list)
+    cpdef dict _need(self, list active)
+
+    @cython.locals(a=cython.double, b=cython.double, length=cython.double, worst=cython.Py_ssize_t, fb=list,
+                   need=dict, kept=list)
     cpdef _scan(self, piece, list active, list fa, double tau, double a_g)
 
     @cython.locals(kept=list, kept_values=list, i=cython.Py_ssize_t, q=tuple, y=tuple, b3=cython.double,

@@ -133,14 +133,19 @@ class Peaks:
     #: the orders of the derivatives of x_k each kind needs, (lo, hi): drift 0..2, v_abs 1..3, a_abs 2..4
     _LEVELS = ((0, 3), (1, 4), (2, 5))
 
-    def _values(self, piece, s, a_g, active):
-        """(f, f', f'') of each active quantity at s of the piece; raises the maxima."""
+    def _need(self, active):
+        """{floor: (lo, hi)}: the orders of each floor's derivatives the active quantities need."""
         need = {}
         for kind, k, _ in active:
             lo, hi = self._LEVELS[kind]
             for floor in range(k - 1 if kind == 0 and k else k, k + 1):  # a drift needs the floor below too
                 old = need.get(floor)
                 need[floor] = (lo, hi) if old is None else (min(old[0], lo), max(old[1], hi))
+        return need
+
+    def _values(self, piece, s, a_g, active, need):
+        """(f, f', f'') of each active quantity at s of the piece (need: _need(active)); raises the
+        maxima."""
         d = piece.derivatives(s, need)
         ih, vg = self.inv_h, self.v_ground + a_g * s
         out = []
@@ -171,17 +176,21 @@ class Peaks:
         clears for the rest of the piece drop out, so the search goes on with those that may
         still peak."""
         a, b = 0.0, tau
+        need = self._need(active)
         for _ in range(_MAX_POINTS):
             if not active:
                 return
-            fb = self._values(piece, b, a_g, active)
+            fb = self._values(piece, b, a_g, active, need)
             length = b - a
             worst = self._worst(active, fa, fb, length)
             if worst < 0 or length <= 4e-16 * tau:  # certified (or down to rounding of the clock)
                 if b >= tau:
                     return
                 a, b = b, tau
-                active, fa = self._open(active, fb, tau - a)
+                kept, fa = self._open(active, fb, tau - a)
+                if len(kept) != len(active):  # fewer quantities: fewer derivatives to ask for
+                    need = self._need(kept)
+                active = kept
                 continue
             b = a + _next(fa[worst], fb[worst], length)
         # never reached in practice: what is left is accepted (its ends are counted)
