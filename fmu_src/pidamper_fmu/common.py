@@ -13,7 +13,7 @@ access and the FMI entry points around the model's own `_step` and `_build_core`
   binary passes every value reference to the model: set_string refuses them all).
 - Outputs are computed once per state: after a step the model packs them into the native layer's
   buffer in one pass (and skips even that when the physics says the step changed nothing the
-  outputs read: `core.still`, the same inputs bit for bit, no read through Python since); reads
+  outputs read: `core.still`, no input set to other bits and no read through Python since); reads
   through Python (no native layer, or a read between fmi2SetReal and fmi2DoStep) are served from
   one flat tuple (`_flat_outputs`), computed at the first read after anything changed.
 """
