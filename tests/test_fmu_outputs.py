@@ -117,3 +117,24 @@ def test_the_buffer_is_not_packed_again_while_a_building_rests(monkeypatch, cls,
         assert struct.pack(f"{len(vrs)}d", *_buffer(model, vrs)) == struct.pack(
             f"{len(vrs)}d", *(float(v) for v in _fresh(model))), k
     assert packed == [1, 0, 0, 1, 1, 1, 0, 1, 0, 0, 1, 1, 1]
+
+
+@pytest.mark.parametrize("cls, force", [(DampedShearBuilding3, "F"), (ShearBuilding3, "F[3]")])
+def test_an_input_set_between_steps_at_rest_repacks_the_buffer(monkeypatch, cls, force):
+    """A building at rest: an input set to another value (even one taken back before the step) or to
+    the same bits again: the buffer holds the outputs afresh after every step."""
+    model = _model(cls, native=True)
+    vrs = _computed(model)
+    vr = {var.name: vr for vr, var in model.vars.items()}[force]
+    pushes = _counting(monkeypatch, cls, "_push")
+    plan = [(), (), ((vr, 7e3), (vr, 0.0)), (), ((vr, 0.0),), ((vr, -0.0),), ((vr, -0.0),), ((vr, 0.0),), ()]
+    packed = []
+    for k, sets in enumerate(plan):
+        for ref, value in sets:
+            model.set_real([ref], [value])
+        before = len(pushes)
+        assert model._native_step(k * H, H) != 2
+        packed.append(len(pushes) - before)
+        assert struct.pack(f"{len(vrs)}d", *_buffer(model, vrs)) == struct.pack(
+            f"{len(vrs)}d", *(float(v) for v in _fresh(model))), k
+    assert packed == [1, 0, 1, 0, 0, 1, 0, 1, 0]

@@ -73,6 +73,7 @@ class ComponentSlave(FmiEntry, Fmi2Slave):
         def set_input(value):
             if value - value != 0.0:
                 self._fail(name, value, "the input must be finite")
+            self._input_changed(self._values[name], value)
             self._values[name] = value
         return set_input
 
@@ -99,10 +100,6 @@ class ComponentSlave(FmiEntry, Fmi2Slave):
     def _outputs_now(self):
         return self._computed(self._core_now())
 
-    def _inputs(self):
-        values = self._values
-        return tuple([values[name] for name, *_ in self.INPUTS])
-
     # ---- to be provided by the model --------------------------------------------------------
 
     def _build_core(self):
@@ -121,7 +118,7 @@ class ComponentSlave(FmiEntry, Fmi2Slave):
 
     def _push(self, core):
         self._pack.pack_into(self._buffer, self._offset, *self._computed(core))
-        self._pushed = (core, self._inputs())
+        self._pushed = core
 
     # ---- FMI calls --------------------------------------------------------------------------
 
@@ -134,12 +131,13 @@ class ComponentSlave(FmiEntry, Fmi2Slave):
             self._fail("communicationStepSize", step_size,
                        f"the step from {current_time!r} must be finite and >= 0 (no step back in time)")
         t = core.t
-        self._check_time(current_time, t, step_size)
+        if current_time != t:  # (a host's rounded time: within the tolerance, accepted)
+            self._check_time(current_time, t, step_size)
         try:
             self._advance(core, max(current_time + step_size, t))
         except ParameterError as err:
             self._fail(err.name, err.value, err.allowed)
-        if self._native and not self._buffer_holds(core, self._inputs()):
+        if self._native and not self._buffer_holds(core):
             self._push(core)
 
     @guarded(lambda args: None)

@@ -139,11 +139,6 @@ class ShearBuildingSlave(ComponentSlave):
         values = self._values
         return [values[name] for name in self._names[0]]
 
-    def _inputs(self):
-        """The inputs the outputs read: the forces (the floors' absolute accelerations); a_g and the
-        impulses act through the step only, and a step they act in is no rest (core.still false)."""
-        return tuple(self._forces())
-
     def _advance(self, core, t_end):
         values = self._values
         names_j, names_t = self._names[1], self._names[2]

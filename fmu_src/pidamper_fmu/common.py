@@ -13,7 +13,7 @@ access and the FMI entry points around the model's own `_step` and `_build_core`
   binary passes every value reference to the model: set_string refuses them all).
 - Outputs are computed once per state: after a step the model packs them into the native layer's
   buffer in one pass (and skips even that when the physics says the step changed nothing the
-  outputs read: `core.still`, the same inputs bit for bit, no read through Python since); reads
+  outputs read: `core.still`, no input set to other bits and no read through Python since); reads
   through Python (no native layer, or a read between fmi2SetReal and fmi2DoStep) are served from
   one flat tuple (`_flat_outputs`), computed at the first read after anything changed.
 """
@@ -109,13 +109,8 @@ def describe(root, info, outputs):
 
 
 def same_bits(a, b):
-    """True when the float sequences a and b are equal bit for bit (a zero's sign counts)."""
-    if a != b:
-        return False
-    for x, y in zip(a, b):
-        if x == 0.0 and math.copysign(1.0, x) != math.copysign(1.0, y):
-            return False
-    return True
+    """True when the floats a and b are equal bit for bit (a zero's sign counts)."""
+    return a == b and (a != 0.0 or math.copysign(1.0, a) == math.copysign(1.0, b))
 
 
 class FmiEntry:
@@ -126,7 +121,7 @@ class FmiEntry:
 
     _t0 = 0.0
     _flat = None  # the outputs of the current state, once read through Python (None: not yet)
-    _pushed = None  # (core, inputs) whose outputs the native layer's buffer holds, or None
+    _pushed = None  # the core whose outputs the native layer's buffer holds under the current inputs, or None
 
     # ---- outputs served once per state ------------------------------------------------
 
@@ -141,13 +136,18 @@ class FmiEntry:
     def _outputs_now(self):
         raise NotImplementedError
 
-    def _buffer_holds(self, core, inputs):
+    def _buffer_holds(self, core):
         """True when the buffer already holds the outputs of this step: the physics changed
-        nothing they read (core.still: a building at rest), the buffer was written for this core
-        under the same inputs bit for bit, and no read through Python wrote it since."""
-        pushed = self._pushed
-        return (pushed is not None and pushed[0] is core and getattr(core, "still", False)
-                and same_bits(pushed[1], inputs))
+        nothing they read (core.still: a building at rest), the buffer was written for this core,
+        and since then no input changed bit for bit (`_input_changed`) and no read through Python
+        wrote it."""
+        return self._pushed is core and getattr(core, "still", False)
+
+    def _input_changed(self, old, value):
+        """An input's setter, before it stores `value`: one that is not `old` bit for bit drops the
+        buffer's claim to hold the current outputs (the outputs may read that input)."""
+        if not same_bits(old, value):
+            self._pushed = None
 
     # ---- refusals ---------------------------------------------------------------------
 

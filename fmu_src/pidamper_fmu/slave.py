@@ -95,6 +95,7 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         self._held = None  # a collapsed building's outputs, held
         self._drift = None  # a building's DriftMonitor (drift_limit), made with the core
         self._in_step = 0
+        self._validated = None  # the core whose state the validity monitors saw after its last step
         self._record_in_buffer = True  # the buffer may hold a non-zero record: write it at the next push
         for k, (name, kind, *_) in enumerate(RECORD):
             self._register_computed(name, kind, Fmi2Causality.local, (lambda k=k: self._record_values[k]))
@@ -107,6 +108,7 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         def set_input(value):
             if value - value != 0.0:
                 self._fail(name, value, "the input must be finite")
+            self._input_changed(getattr(self, name), value)
             setattr(self, name, value)
         return set_input
 
@@ -132,7 +134,7 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         buffer = self._buffer
         off_outputs, off_record = self._offsets
         self._PACK_COMPUTED.pack_into(buffer, off_outputs, *self._outputs(core))
-        self._pushed = (core, (self.F, self.a_g))
+        self._pushed = core
         if self._in_step or self._record_in_buffer:
             _PACK_RECORD.pack_into(buffer, off_record, *self._record_values)
             self._record_in_buffer = self._in_step > 0
@@ -237,21 +239,34 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
             raise Refusal("fmi2DoStep is not allowed before fmi2ExitInitializationMode")
         t = core.t
         force, ground = self.F, self.a_g
-        total = current_time + step_size + force + ground
+        end = current_time + step_size
+        total = end + force + ground
         if total - total != 0.0 or step_size < 0.0:  # some value is not finite (or a sum overflowed)
             self._check_step(current_time, step_size, force, ground)
-        self._check_time(current_time, t, step_size)
+        if current_time != t:  # (a host's rounded time: within the tolerance, accepted)
+            self._check_time(current_time, t, step_size)
         if self._in_step:
             self._clear_record()
         contacts = core.contacts
         if contacts is not None:
             contacts.clear()
-        core.advance(max(current_time + step_size, t), force, ground)
-        late = None if contacts is None else contacts.news()
-        if late is not None:
-            self._warn(long_contact(*late))
+        validated, self._validated = self._validated, None
+        core.advance(end if end >= t else t, force, ground)  # max(end, t) without the call
+        if contacts is not None:
+            late = contacts.news()
+            if late is not None:
+                self._warn(long_contact(*late))
         if core.halted and self._held is None:  # collapsed in this step: its outputs hold from here
             self._held = self._live_outputs(core)
+        still = core.still  # the step changed no output (a building at rest)
+        if not (still and validated is core):  # (a still step's state was checked after the last step)
+            self._check_validity(core)
+        self._validated = core
+        if self._native and (self._record_in_buffer or not (still and self._pushed is core)):  # _buffer_holds
+            self._push(core)  # (the buffer holds no impact record, the step had none: nothing to clear)
+
+    def _check_validity(self, core):
+        """Warn (once per run each) of a swing beyond angle_limit and a drift ratio beyond drift_limit."""
         monitor = self._monitor
         if monitor is not None:
             warning = monitor.check(core)
@@ -261,8 +276,6 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
             warning = self._drift.check(core.t, core.model.peaks)
             if warning:
                 self._warn(warning)
-        if self._native and (self._record_in_buffer or not self._buffer_holds(core, (force, ground))):
-            self._push(core)  # (the buffer holds no impact record, the step had none: nothing to clear)
 
     def _check_step(self, current_time, step_size, force, ground):
         """Refuse a step that is not finite or goes back, or a non-finite input, naming it."""

@@ -71,19 +71,15 @@ class ShearMotion:
     def floors(self):
         """(x, v): floor displacements and velocities relative to the ground [m, m/s]."""
         phi, n = self.b.shapes, self.n
-        q, qd = self.q, self.qd
-        x = [sum(phi[k][r] * q[r] for r in range(n)) for k in range(n)]
-        v = [sum(phi[k][r] * qd[r] for r in range(n)) for k in range(n)]
-        return x, v
+        return combine(phi, self.q, n), combine(phi, self.qd, n)
 
     def absolute_accelerations(self, forces, x=None, v=None):
         """x_k'' + a_g = (M^-1 (F - C x' - K x))_k [m/s2] of every floor under the forces F [N]
         (the ground acceleration cancels: it moves the frame, not the floors' absolute motion)."""
         if x is None:
             x, v = self.floors()
-        b, n = self.b, self.n
-        K, C, m = b.K, b.C, b.masses
-        return [(forces[k] - sum(C[k][j] * v[j] + K[k][j] * x[j] for j in range(n))) / m[k] for k in range(n)]
+        b = self.b
+        return accelerations(forces, b.K, b.C, b.masses, x, v, self.n)
 
     def energy(self):
         """Kinetic plus strain energy of the floors [J] (relative motion)."""
@@ -106,7 +102,7 @@ class ShearMotion:
             return
         self.still = False
         phi, m = b.shapes, b.masses
-        loads = [sum(phi[k][r] * (forces[k] - m[k] * ground) for k in range(n)) for r in range(n)]
+        loads = modal_loads(phi, m, forces, ground, n)
         t = self.t
         q0 = list(self.q)
         for t_k, k, j in kicks:
@@ -201,6 +197,84 @@ class ShearMotion:
         self.qd = [float(v) for v in state["qd"]]
 
 
+# ---- the sums of the hot loops (typed in shear_motion.pxd): each sum from 0.0 left to right, as
+# CPython's sum() adds its floats, so both builds give the same bits ------------------------------
+
+def combine(phi, q, n):
+    """[sum_r phi[k][r] q[r] for each floor k]: floor values from modal ones."""
+    out = []
+    for k in range(n):
+        row = phi[k]
+        total = 0.0
+        for r in range(n):
+            a = row[r]
+            b = q[r]
+            total += a * b
+        out.append(total)
+    return out
+
+
+def accelerations(forces, K, C, m, x, v, n):
+    """[(F_k - sum_j (C[k][j] v_j + K[k][j] x_j)) / m_k for each floor k]."""
+    out = []
+    for k in range(n):
+        Ck, Kk = C[k], K[k]
+        total = 0.0
+        for j in range(n):
+            c, vj, kk, xj = Ck[j], v[j], Kk[j], x[j]
+            total += c * vj + kk * xj
+        f, mk = forces[k], m[k]
+        out.append((f - total) / mk)
+    return out
+
+
+def modal_loads(phi, m, forces, ground, n):
+    """[sum_k phi[k][r] (F_k - m_k a_g) for each mode r]: the modal loads."""
+    out = []
+    for r in range(n):
+        total = 0.0
+        for k in range(n):
+            p, f, mk = phi[k][r], forces[k], m[k]
+            total += p * (f - mk * ground)
+        out.append(total)
+    return out
+
+
+def piece_bounds(phi, amps, powers, n):
+    """ShearPiece.bounds from the modes' amplitudes and powers w^j (j = 0..5)."""
+    floors = []
+    drifts = []
+    for k in range(n):
+        row = phi[k]
+        bounds = []
+        for j in range(6):
+            total = 0.0
+            for r in range(n):
+                p, a, w = row[r], amps[r], powers[r][j]
+                total += abs(p) * a * w
+            bounds.append(total)
+        floors.append(bounds)
+        total = 0.0
+        for r in range(n):
+            p, a, w = row[r] - (phi[k - 1][r] if k else 0.0), amps[r], powers[r][3]
+            total += abs(p) * a * w
+        drifts.append(total)
+    return floors, drifts
+
+
+def floor_derivatives(row, q, lo, hi):
+    """[sum_r row[r] q[r][j] for j in lo..hi-1]: a floor's derivatives from the modes' (q: per mode
+    its derivatives)."""
+    out = []
+    for j in range(lo, hi):
+        total = 0.0
+        for r in range(len(q)):
+            p, d = row[r], q[r][j]
+            total += p * d
+        out.append(total)
+    return out
+
+
 class ShearPiece:
     """A piece [0, tau] of a ShearMotion (its modes started) as peaks.Peaks searches it: each mode
     is a damped oscillator under a held load, q'' = p - 2 zeta w q' - w^2 q, so its derivatives
@@ -235,15 +309,11 @@ class ShearPiece:
         phi, n, modes = m.b.shapes, m.n, m.modes
         # each mode's free part is exp(-s tau) (A cos + B sin): |d^j| <= sqrt(A^2 + B^2) w^j
         amps = [math.hypot(mode.a, mode.b) for mode in modes]
-        floors = [[sum(abs(phi[k][r]) * amps[r] * modes[r].w ** j for r in range(n)) for j in range(6)]
-                  for k in range(n)]
-        drifts = [sum(abs(phi[k][r] - (phi[k - 1][r] if k else 0.0)) * amps[r] * modes[r].w ** 3 for r in range(n))
-                  for k in range(n)]
-        return floors, drifts
+        powers = [[mode.w ** j for j in range(6)] for mode in modes]  # w^j of each mode
+        return piece_bounds(phi, amps, powers, n)
 
     def derivatives(self, s, floors):
         """{floor: [x^(lo), ..., x^(hi-1)]} at s of the floors asked for ({floor: (lo, hi)}, hi <= 5)."""
         phi = self.motion.b.shapes
         q = self._modal(s, 5)
-        return {k: [sum(phi[k][r] * q[r][j] for r in range(len(q))) for j in range(lo, hi)]
-                for k, (lo, hi) in floors.items()}
+        return {k: floor_derivatives(phi[k], q, lo, hi) for k, (lo, hi) in floors.items()}
