@@ -1,5 +1,5 @@
 # Types for the compiled build of damper.py (Cython, pure-Python mode): Damper's stepping half
-# (_Damper: advance and the per-piece methods) as a typed subclass of stepping.EventDriven, so it
+# (_Damper: advance, observables and the per-piece methods) as a typed subclass of stepping.EventDriven, so it
 # reaches the state through C fields.  The fields stay Python objects, so the state keeps whatever
 # numbers a caller or a saved state gave it, in both builds alike.  Damper itself stays a Python
 # subclass: its methods (and _Damper's) can still be replaced on the class or on an instance.
@@ -16,6 +16,8 @@ cdef class _Damper(EventDriven):
 
     cpdef double _phase(self) except? -1.0
 
-    cpdef _coast(self, tuple state, double tau, t_end)
+    cpdef _segment(self, fc, double horizon)
+
+    cpdef _coast(self, state, double tau, t_end)
 
     cpdef _move(self, seg, double tau, t_end, fc, observe)

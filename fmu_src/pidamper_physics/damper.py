@@ -95,6 +95,37 @@ class _Damper(EventDriven):
         if check - check != 0.0:  # a value overflowed: refuse rather than answer inf or nan
             self._overflowed(force, ground)
 
+    def observables(self, force=0.0, ground=0.0):
+        """(theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force) in one call [rad, rad/s, m,
+        m/s2, N]: the values of angles(), displacements(), acceleration() and contact_force()."""
+        p = self.p
+        f = self._applied(force)
+        side = self.side if self.mode == STICK else 0
+        inline = self._observables
+        if inline is not None:
+            return inline(self.x, self.v, self.y, self.u, side, f, ground)
+        x, v, y, u, model = self.x, self.v, self.y, self.u, self.model
+        theta, theta_dot, alpha, alpha_dot = model.angles(x, v, y, u)
+        px, _, py, _ = model.displacements(x, v, y, u)
+        contact = p.m * model.contact_accel(x, v, side, f, ground) if side else 0.0
+        return theta, theta_dot, alpha, alpha_dot, px, py, model.acceleration(x, v, y, u, side, f, ground), contact
+
+    def _resting(self, fc):
+        """At rest: no load (fc, the harmonic), the particle free, every body's position and velocity
+        and the energy +0.0, and a level that rests (a building of elastic storeys whose other
+        floors are at rest too).  A piece from there would be +0.0 again (stepping.at_rest), add
+        zeros to the work and the dashpots' energy, and raise no maximum but by the ground's velocity."""
+        if fc[0] != 0.0 or fc[1] != 0.0 or self.p.F0 != 0.0 or self.mode != FREE:
+            return False
+        resting = self.model.resting
+        return (resting is not None and at_rest((self.x, self.v, self.y, self.u, self.energy))
+                and unsigned(self.work_in) and unsigned(self.viscous) and resting())
+
+    def _applied(self, force):
+        """Applied force per primary mass [m/s2]: the held `force` [N] and the built-in harmonic."""
+        p = self.p
+        return force / p.M + p.F0 / p.M * math.sin(self._phase()) if p.F0 else force / p.M
+
     def _segment(self, fc, horizon):
         """The segment from the current state and mode; fc = (loads per mass on primary, particle)."""
         psi = self._phase()
@@ -283,21 +314,6 @@ class Damper(_Damper):
             return 0.0
         return self.p.m * self.model.contact_accel(self.x, self.v, self.side, self._applied(force), ground)
 
-    def observables(self, force=0.0, ground=0.0):
-        """(theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force) in one call [rad, rad/s, m,
-        m/s2, N]: the values of angles(), displacements(), acceleration() and contact_force()."""
-        p = self.p
-        f = self._applied(force)
-        side = self.side if self.mode == STICK else 0
-        inline = self._observables
-        if inline is not None:
-            return inline(self.x, self.v, self.y, self.u, side, f, ground)
-        x, v, y, u, model = self.x, self.v, self.y, self.u, self.model
-        theta, theta_dot, alpha, alpha_dot = model.angles(x, v, y, u)
-        px, _, py, _ = model.displacements(x, v, y, u)
-        contact = p.m * model.contact_accel(x, v, side, f, ground) if side else 0.0
-        return theta, theta_dot, alpha, alpha_dot, px, py, model.acceleration(x, v, y, u, side, f, ground), contact
-
     def get_state(self):
         """Plain dict (JSON-safe) of everything that determines the future motion: the keys of
         STATE_KEYS, the level's own (LevelModel.get_state) and, with materials, Tally's."""
@@ -338,17 +354,6 @@ class Damper(_Damper):
             if self.on_collapse is not None:
                 self.on_collapse(self.t, storeys.collapse_reason)
 
-    def _resting(self, fc):
-        """At rest: no load (fc, the harmonic), the particle free, every body's position and velocity
-        and the energy +0.0, and a level that rests (a building of elastic storeys whose other
-        floors are at rest too).  A piece from there would be +0.0 again (stepping.at_rest), add
-        zeros to the work and the dashpots' energy, and raise no maximum but by the ground's velocity."""
-        if fc[0] != 0.0 or fc[1] != 0.0 or self.p.F0 != 0.0 or self.mode != FREE:
-            return False
-        resting = self.model.resting
-        return (resting is not None and at_rest((self.x, self.v, self.y, self.u, self.energy))
-                and unsigned(self.work_in) and unsigned(self.viscous) and resting())
-
     def _rest(self, fc, tau):
         return self.model.rest_piece(tau, -fc[1])
 
@@ -367,11 +372,6 @@ class Damper(_Damper):
         raise ParameterError("F, a_g", (force, ground), f"the motion they drive (with the parameters {self.p.as_dict()}) "
                              f"leaves the range of float arithmetic by t = {self.t!r} s (x = {self.x!r}, "
                              f"energy = {self.energy!r}); the state is left there")
-
-    def _applied(self, force):
-        """Applied force per primary mass [m/s2]: the held `force` [N] and the built-in harmonic."""
-        p = self.p
-        return force / p.M + p.F0 / p.M * math.sin(self._phase()) if p.F0 else force / p.M
 
     def _impact(self, side):
         e, contacts = self.p.e, self.contacts

@@ -15,5 +15,11 @@ cdef class EventDriven:
                    tau=cython.double, guard=cython.Py_ssize_t, rest=cython.bint, still=cython.bint)
     cpdef _run(self, t_end, loads, observe=*)
 
+    cpdef _segment(self, loads, double span)
+
+    cpdef _move(self, seg, double tau, t_end, loads, observe)
+
+    cpdef _coast(self, state, double tau, t_end)
+
     @cython.locals(t=cython.double, s=cython.double, b=cython.double, lo=cython.double, t_new=cython.double)
     cpdef tuple _tick(self, double tau, t_end)

@@ -197,6 +197,21 @@ class EventDriven:
         """Book a piece of tau [s] at rest (after _resting); True if an output changed."""
         raise NotImplementedError
 
+    # the model's physics the loop calls at every piece (declared here so that the compiled build
+    # calls them in C: stepping.pxd)
+
+    def _segment(self, loads, span):
+        """The segment of the current mode from the current state, for a piece of up to span [s]."""
+        raise NotImplementedError
+
+    def _move(self, seg, tau, t_end, loads, observe):
+        """Take the state at tau [s] of seg and tick the clock (t_end: the piece ends there)."""
+        raise NotImplementedError
+
+    def _coast(self, state, tau, t_end):
+        """_move to the state `state` a segment-free free flight reached after tau [s]."""
+        raise NotImplementedError
+
     def _tick(self, tau, t_end):
         """(t, t_lo) of the clock moved by tau (two-sum; t_end: the piece ends there exactly)."""
         t = self.t
