@@ -70,7 +70,130 @@ def check_state(state):
             check_finite(f"state {key}", value)
 
 
-class Damper(EventDriven):
+class _Damper(EventDriven):
+    """Damper's stepping half: advance() and the methods each piece calls (in the compiled build a
+    typed class, damper.pxd, whose state the loop reads from C fields; Damper, a Python subclass,
+    adds the rest and stays open to patching)."""
+
+    def advance(self, t_end, force=0.0, ground=0.0, observe=None):
+        """Move to time t_end [s] with the external force `force` [N] on the primary and the
+        ground acceleration `ground` [m/s2] of a base excitation (it acts on both bodies; x and y
+        are then measured from the moving ground) held constant.  observe(seg, t0, t1), if
+        given, sees each smooth piece before the state leaves it: the segment `seg` started at
+        t0 and holds up to t1 (events, if any, at t1)."""
+        total = force + t_end + ground
+        if total - total != 0.0:  # some value is not finite, or their sum overflowed
+            check_finite("F", force)
+            check_finite("a_g", ground)
+            check_finite("t_end", t_end)
+        if self.halted:  # a collapsed building holds its state; the clock goes on
+            self.t, self.t_lo = max(t_end, self.t), 0.0
+            self.still = False
+            return
+        self._run(t_end, (force / self.p.M - ground, -ground), observe)  # loads per mass: primary, particle
+        check = self.x + self.v + self.y + self.u + self.energy + self.work_in
+        if check - check != 0.0:  # a value overflowed: refuse rather than answer inf or nan
+            self._overflowed(force, ground)
+
+    def observables(self, force=0.0, ground=0.0):
+        """(theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force) in one call [rad, rad/s, m,
+        m/s2, N]: the values of angles(), displacements(), acceleration() and contact_force()."""
+        p = self.p
+        f = self._applied(force)
+        side = self.side if self.mode == STICK else 0
+        inline = self._observables
+        if inline is not None:
+            return inline(self.x, self.v, self.y, self.u, side, f, ground)
+        x, v, y, u, model = self.x, self.v, self.y, self.u, self.model
+        theta, theta_dot, alpha, alpha_dot = model.angles(x, v, y, u)
+        px, _, py, _ = model.displacements(x, v, y, u)
+        contact = p.m * model.contact_accel(x, v, side, f, ground) if side else 0.0
+        return theta, theta_dot, alpha, alpha_dot, px, py, model.acceleration(x, v, y, u, side, f, ground), contact
+
+    def _resting(self, fc):
+        """At rest: no load (fc, the harmonic), the particle free, every body's position and velocity
+        and the energy +0.0, and a level that rests (a building of elastic storeys whose other
+        floors are at rest too).  A piece from there would be +0.0 again (stepping.at_rest), add
+        zeros to the work and the dashpots' energy, and raise no maximum but by the ground's velocity."""
+        if fc[0] != 0.0 or fc[1] != 0.0 or self.p.F0 != 0.0 or self.mode != FREE:
+            return False
+        resting = self.model.resting
+        return (resting is not None and at_rest((self.x, self.v, self.y, self.u, self.energy))
+                and unsigned(self.work_in) and unsigned(self.viscous) and resting())
+
+    def _applied(self, force):
+        """Applied force per primary mass [m/s2]: the held `force` [N] and the built-in harmonic."""
+        p = self.p
+        return force / p.M + p.F0 / p.M * math.sin(self._phase()) if p.F0 else force / p.M
+
+    def _segment(self, fc, horizon):
+        """The segment from the current state and mode; fc = (loads per mass on primary, particle)."""
+        psi = self._phase()
+        model = self.model
+        if self.mode == STICK:
+            return model.stick(self.x, self.v, self.side, fc, psi, horizon)
+        if self.mode == OUTSIDE:
+            return model.outside(self.x, self.v, self.y, self.u, fc, psi, horizon, self.side)
+        return model.flight(self.x, self.v, self.y, self.u, fc, psi, horizon)
+
+    def _move(self, seg, tau, t_end, fc, observe):
+        """Take the state at tau of the segment, tick the clock by tau (t_end: the piece ends
+        there) and book the work of the loads and the dashpots (a level without dashpots,
+        work = None, books the energy change as the work).
+
+        The clock is t + t_lo: t is t + tau rounded (or t_end) and t_lo keeps the rounding
+        error (two-sum), so a forcing phase tied to the clock does not drift over long runs,
+        and a tau below one ulp of t still moves the state."""
+        t = self.t
+        t_new, lo = self._tick(tau, t_end)
+        if observe is not None:
+            observe(seg, t, t_new)
+        book = self.model.work
+        before = (self.x, self.v, self.y, self.u) if book is not None else None
+        self.x, self.v, self.y, self.u = after = seg.positions(tau)
+        if self._follow is not None:
+            self._follow(seg, tau)
+        if tau > 0.0:
+            self.fresh = False
+        e_new = self._energy()
+        if book is None:
+            self.work_in += e_new - self.energy
+        else:
+            work, viscous = book(seg, tau, before, after, fc, self._phase(), e_new - self.energy)
+            self.work_in += work
+            self.viscous += viscous
+        self.energy = e_new
+        self.t, self.t_lo = t_new, lo
+
+    def _coast(self, state, tau, t_end):
+        """_move for a free flight the level computed without a segment (no dashpots to book)."""
+        t_new, lo = self._tick(tau, t_end)
+        self.x, self.v, self.y, self.u = state
+        if tau > 0.0:
+            self.fresh = False
+        e_new = self.model.energy(*state)
+        self.work_in += e_new - self.energy
+        self.energy = e_new
+        self.t, self.t_lo = t_new, lo
+
+    def _energy(self):
+        return self.model.energy(self.x, self.v, self.y, self.u)
+
+    def _phase(self):
+        """Phase [rad] of the built-in harmonic force at the state's time."""
+        p = self.p
+        return p.Omega * self.t + p.phi + p.Omega * self.t_lo
+
+    def _flight(self, fc, span):
+        """Free flight from the current state with its bounds built (after a contact)."""
+        return self.model.flight(self.x, self.v, self.y, self.u, fc, self._phase(), span, always_bound=True)
+
+    def _snap(self, side):
+        """Put the pair exactly on the stop (removes rounding-level overlap)."""
+        self.x, self.v, self.y, self.u = self.model.snap(self.x, self.v, self.y, self.u, side)
+
+
+class Damper(_Damper):
     """Event-driven pendulum impact damper; see the module doc for the rules."""
 
     def __init__(self, params=None, theta0=0.0, theta_dot0=0.0, alpha0=0.0, alpha_dot0=0.0, t0=0.0, floors0=None):
@@ -114,26 +237,6 @@ class Damper(EventDriven):
         self._observables = model.observables  # the level's outputs inline, or None (bound once: per step)
 
     # ---- public API -------------------------------------------------------------------
-
-    def advance(self, t_end, force=0.0, ground=0.0, observe=None):
-        """Move to time t_end [s] with the external force `force` [N] on the primary and the
-        ground acceleration `ground` [m/s2] of a base excitation (it acts on both bodies; x and y
-        are then measured from the moving ground) held constant.  observe(seg, t0, t1), if
-        given, sees each smooth piece before the state leaves it: the segment `seg` started at
-        t0 and holds up to t1 (events, if any, at t1)."""
-        total = force + t_end + ground
-        if total - total != 0.0:  # some value is not finite, or their sum overflowed
-            check_finite("F", force)
-            check_finite("a_g", ground)
-            check_finite("t_end", t_end)
-        if self.halted:  # a collapsed building holds its state; the clock goes on
-            self.t, self.t_lo = max(t_end, self.t), 0.0
-            self.still = False
-            return
-        self._run(t_end, (force / self.p.M - ground, -ground), observe)  # loads per mass: primary, particle
-        check = self.x + self.v + self.y + self.u + self.energy + self.work_in
-        if check - check != 0.0:  # a value overflowed: refuse rather than answer inf or nan
-            self._overflowed(force, ground)
 
     def dense(self, times, force=0.0, ground=0.0):
         """Advance to times[-1] and return x, v, y, u [m, m/s] at the sorted times (>= now) from
@@ -211,21 +314,6 @@ class Damper(EventDriven):
             return 0.0
         return self.p.m * self.model.contact_accel(self.x, self.v, self.side, self._applied(force), ground)
 
-    def observables(self, force=0.0, ground=0.0):
-        """(theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force) in one call [rad, rad/s, m,
-        m/s2, N]: the values of angles(), displacements(), acceleration() and contact_force()."""
-        p = self.p
-        f = self._applied(force)
-        side = self.side if self.mode == STICK else 0
-        inline = self._observables
-        if inline is not None:
-            return inline(self.x, self.v, self.y, self.u, side, f, ground)
-        x, v, y, u, model = self.x, self.v, self.y, self.u, self.model
-        theta, theta_dot, alpha, alpha_dot = model.angles(x, v, y, u)
-        px, _, py, _ = model.displacements(x, v, y, u)
-        contact = p.m * model.contact_accel(x, v, side, f, ground) if side else 0.0
-        return theta, theta_dot, alpha, alpha_dot, px, py, model.acceleration(x, v, y, u, side, f, ground), contact
-
     def get_state(self):
         """Plain dict (JSON-safe) of everything that determines the future motion: the keys of
         STATE_KEYS, the level's own (LevelModel.get_state) and, with materials, Tally's."""
@@ -266,32 +354,8 @@ class Damper(EventDriven):
             if self.on_collapse is not None:
                 self.on_collapse(self.t, storeys.collapse_reason)
 
-    def _energy(self):
-        return self.model.energy(self.x, self.v, self.y, self.u)
-
-    def _resting(self, fc):
-        """At rest: no load (fc, the harmonic), the particle free, every body's position and velocity
-        and the energy +0.0, and a level that rests (a building of elastic storeys whose other
-        floors are at rest too).  A piece from there would be +0.0 again (stepping.at_rest), add
-        zeros to the work and the dashpots' energy, and raise no maximum but by the ground's velocity."""
-        if fc[0] != 0.0 or fc[1] != 0.0 or self.p.F0 != 0.0 or self.mode != FREE:
-            return False
-        resting = self.model.resting
-        return (resting is not None and at_rest((self.x, self.v, self.y, self.u, self.energy))
-                and unsigned(self.work_in) and unsigned(self.viscous) and resting())
-
     def _rest(self, fc, tau):
         return self.model.rest_piece(tau, -fc[1])
-
-    def _segment(self, fc, horizon):
-        """The segment from the current state and mode; fc = (loads per mass on primary, particle)."""
-        psi = self._phase()
-        model = self.model
-        if self.mode == STICK:
-            return model.stick(self.x, self.v, self.side, fc, psi, horizon)
-        if self.mode == OUTSIDE:
-            return model.outside(self.x, self.v, self.y, self.u, fc, psi, horizon, self.side)
-        return model.flight(self.x, self.v, self.y, self.u, fc, psi, horizon)
 
     def _fastest_from(self):
         return f", from g, L2, FR, mu{', Omega' if self.p.Omega_acting else ''}"
@@ -308,64 +372,6 @@ class Damper(EventDriven):
         raise ParameterError("F, a_g", (force, ground), f"the motion they drive (with the parameters {self.p.as_dict()}) "
                              f"leaves the range of float arithmetic by t = {self.t!r} s (x = {self.x!r}, "
                              f"energy = {self.energy!r}); the state is left there")
-
-    def _move(self, seg, tau, t_end, fc, observe):
-        """Take the state at tau of the segment, tick the clock by tau (t_end: the piece ends
-        there) and book the work of the loads and the dashpots (a level without dashpots,
-        work = None, books the energy change as the work).
-
-        The clock is t + t_lo: t is t + tau rounded (or t_end) and t_lo keeps the rounding
-        error (two-sum), so a forcing phase tied to the clock does not drift over long runs,
-        and a tau below one ulp of t still moves the state."""
-        t = self.t
-        t_new, lo = self._tick(tau, t_end)
-        if observe is not None:
-            observe(seg, t, t_new)
-        book = self.model.work
-        before = (self.x, self.v, self.y, self.u) if book is not None else None
-        self.x, self.v, self.y, self.u = after = seg.positions(tau)
-        if self._follow is not None:
-            self._follow(seg, tau)
-        if tau > 0.0:
-            self.fresh = False
-        e_new = self._energy()
-        if book is None:
-            self.work_in += e_new - self.energy
-        else:
-            work, viscous = book(seg, tau, before, after, fc, self._phase(), e_new - self.energy)
-            self.work_in += work
-            self.viscous += viscous
-        self.energy = e_new
-        self.t, self.t_lo = t_new, lo
-
-    def _coast(self, state, tau, t_end):
-        """_move for a free flight the level computed without a segment (no dashpots to book)."""
-        t_new, lo = self._tick(tau, t_end)
-        self.x, self.v, self.y, self.u = state
-        if tau > 0.0:
-            self.fresh = False
-        e_new = self.model.energy(*state)
-        self.work_in += e_new - self.energy
-        self.energy = e_new
-        self.t, self.t_lo = t_new, lo
-
-    def _applied(self, force):
-        """Applied force per primary mass [m/s2]: the held `force` [N] and the built-in harmonic."""
-        p = self.p
-        return force / p.M + p.F0 / p.M * math.sin(self._phase()) if p.F0 else force / p.M
-
-    def _phase(self):
-        """Phase [rad] of the built-in harmonic force at the state's time."""
-        p = self.p
-        return p.Omega * self.t + p.phi + p.Omega * self.t_lo
-
-    def _flight(self, fc, span):
-        """Free flight from the current state with its bounds built (after a contact)."""
-        return self.model.flight(self.x, self.v, self.y, self.u, fc, self._phase(), span, always_bound=True)
-
-    def _snap(self, side):
-        """Put the pair exactly on the stop (removes rounding-level overlap)."""
-        self.x, self.v, self.y, self.u = self.model.snap(self.x, self.v, self.y, self.u, side)
 
     def _impact(self, side):
         e, contacts = self.p.e, self.contacts

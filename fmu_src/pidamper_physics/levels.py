@@ -23,11 +23,15 @@ from .modal import Modes, ModesError
 from .modal_segments import ModalFlight, ModalStick, harmonic_work
 from .nonlinear import NonlinearModel
 from .params import COUPLED, LEVELS, LINEAR, ParameterError
-from .segments import Outside, coast, flight, stick
+from .segments import LinearParams, Outside, coast, flight, stick
 
 
 class _Displacements(LevelModel):
     """Shared by the levels whose coordinates are the displacements x, y themselves."""
+
+    def __init__(self, p):
+        super().__init__(p)
+        self.consts = LinearParams(p)  # what the linear closed forms and energy read, in C doubles when compiled
 
     def displacements(self, x, v, y, u):
         return x, v, y, u
@@ -70,19 +74,19 @@ class LinearModel(_Displacements):
         self.fastest = max(p.w1, p.w2, p.Omega_acting, math.sqrt((p.w2 ** 2 + p.mu * p.w1 ** 2) / (1.0 + p.mu)))
         # coast: segments.coast, measured faster than building a Flight for a piece clear of the
         # stops (the common piece of a run); not with the built-in harmonic
-        self.coast = None if p.F0 else functools.partial(coast, p)
+        self.coast = None if p.F0 else functools.partial(coast, self.consts)
 
     def flight(self, x, v, y, u, fc, psi, T, always_bound=False):
-        return flight(self.p, x, v, y, u, fc[0], fc[1], psi, T, always_bound)
+        return flight(self.consts, x, v, y, u, fc[0], fc[1], psi, T, always_bound)
 
     def outside(self, x, v, y, u, fc, psi, T, side):
-        return Outside(self.p, x, v, y, u, fc[0], fc[1], psi, T, side)
+        return Outside(self.consts, x, v, y, u, fc[0], fc[1], psi, T, side)
 
     def stick(self, x, v, side, fc, psi, T):
-        return stick(self.p, x, v, side, fc[0], fc[1], psi, T)
+        return stick(self.consts, x, v, side, fc[0], fc[1], psi, T)
 
     def energy(self, x, v, y, u):
-        return _linear_energy(self.p, x, v, y, u)
+        return _linear_energy(self.consts, x, v, y, u)
 
     def particle_swing(self, x, v, y, u):
         """Particle displacement and velocity relative to its pivot [m, m/s]."""
@@ -192,7 +196,8 @@ class ModalModel(_Displacements):
 
 
 def _linear_energy(p, x, v, y, u):
-    """LinearModel.energy: the two oscillators' energy [J] (typed in the compiled build: levels.pxd)."""
+    """LinearModel.energy: the two oscillators' energy [J]; p = segments.LinearParams (typed in the compiled
+    build: levels.pxd)."""
     M, m, w2, w1 = p.M, p.m, p.w2, p.w1
     return 0.5 * M * (v * v + w2 * w2 * x * x) + 0.5 * m * (u * u + w1 * w1 * y * y)
 

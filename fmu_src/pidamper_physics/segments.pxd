@@ -8,12 +8,15 @@ from .oscillator cimport Oscillator, oscillator
 
 cpdef double noise_size(double swing, double reach, double D) except? -1.0
 
+cdef class LinearParams:
+    cdef public double w2, w1, D, cx, cy, Omega_acting, F0, M, Omega, mu, d, m
+
 @cython.locals(w2=cython.double, w1=cython.double, ww2=cython.double, ww1=cython.double, a2=cython.double,
                b2=cython.double, a1=cython.double, b1=cython.double, D=cython.double, r2=cython.double,
                r1=cython.double, swing=cython.double, growth=cython.double, zmax=cython.double,
                h2=cython.double, h1=cython.double, sh2=cython.double, sh1=cython.double, s2=cython.double,
                s1=cython.double, o2=cython.double, o1=cython.double)
-cpdef tuple coast(p, double x, double v, double y, double u, double fx, double fy, double T)
+cpdef tuple coast(LinearParams p, double x, double v, double y, double u, double fx, double fy, double T)
 
 
 cdef class Flight:
@@ -27,7 +30,7 @@ cdef class Flight:
                    D=cython.double, xh=cython.double, x_lo=cython.double, x_hi=cython.double,
                    y_lo=cython.double, y_hi=cython.double, zmax=cython.double, swing=cython.double,
                    tol=cython.double, n0=cython.double, bx=tuple, by=tuple)
-    cpdef _init(self, p, double x, double v, double y, double u, double fx, double fy, double psi, double T,
+    cpdef _init(self, LinearParams p, double x, double v, double y, double u, double fx, double fy, double psi, double T,
                 bint always_bound)
 
     @cython.locals(x=cython.double, v=cython.double, y=cython.double, u=cython.double)
@@ -54,7 +57,7 @@ cdef class Flight:
 
 
 @cython.locals(seg=Flight)
-cpdef Flight flight(p, double x, double v, double y, double u, double fx, double fy, double psi, double T,
+cpdef Flight flight(LinearParams p, double x, double v, double y, double u, double fx, double fy, double psi, double T,
                     bint always_bound)
 
 
@@ -70,7 +73,7 @@ cdef class Stick:
                    P=tuple, P0=cython.double, P1=cython.double, P2=cython.double, P3=cython.double,
                    P4=cython.double, aa=cython.double, om=cython.double, tol=cython.double, lo=cython.double,
                    hi=cython.double, size=cython.double, n0=cython.double, floor=cython.double)
-    cpdef _init(self, p, double x, double v, int sgn, double fx, double fy, double psi, double T)
+    cpdef _init(self, LinearParams p, double x, double v, int sgn, double fx, double fy, double psi, double T)
 
     @cython.locals(x=cython.double, v=cython.double)
     cpdef tuple positions(self, double tau)
@@ -84,4 +87,4 @@ cdef class Stick:
 
 
 @cython.locals(seg=Stick)
-cpdef Stick stick(p, double x, double v, int sgn, double fx, double fy, double psi, double T)
+cpdef Stick stick(LinearParams p, double x, double v, int sgn, double fx, double fy, double psi, double T)

@@ -40,10 +40,24 @@ def noise_size(swing, reach, D):
 # noise * (1 + growth * tau): events.locate scales them to the tau it classifies at.
 
 
+class LinearParams:
+    """The parameters the linear level's closed forms read (coast, Flight, Stick, levels' energy), taken
+    from Params p once: the compiled build keeps them in C doubles, so building a segment reads no
+    Python attributes.  p.e is not among them (set_restitution changes it)."""
+
+    __slots__ = ("w2", "w1", "D", "cx", "cy", "Omega_acting", "F0", "M", "Omega", "mu", "d", "m")
+
+    def __init__(self, p):
+        self.w2, self.w1, self.D, self.cx, self.cy = p.w2, p.w1, p.D, p.cx, p.cy
+        self.Omega_acting, self.F0, self.M, self.Omega = p.Omega_acting, p.F0, p.M, p.Omega
+        self.mu, self.d, self.m = p.mu, p.d, p.m
+
+
 def coast(p, x, v, y, u, fx, fy, T):
     """(x, v, y, u) after T of free flight without the built-in harmonic when no stop is within
-    reach over [0, T], else None.  Flight's `clear` test and its positions, in the same operations,
-    without building the segment: the event loop's fast path for the steps that cannot meet a stop."""
+    reach over [0, T], else None; p = LinearParams(params).  Flight's `clear` test and its positions,
+    in the same operations, without building the segment: the event loop's fast path for the steps
+    that cannot meet a stop."""
     w2, w1 = p.w2, p.w1
     ww2, ww1 = w2 * w2, w1 * w1
     a2, b2 = x - fx / ww2, v / w2

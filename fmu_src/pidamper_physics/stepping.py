@@ -103,12 +103,13 @@ def contact_outcome(seg, side):
 class EventDriven:
     """Clock, mode and event loop of an event-driven model (see the module doc)."""
 
-    _passes_through = False  # angle form: a closing pair passes through the stop
-    _coaster = None  # the model's segment-free free flight (coast(state..., fx, fy, T)), if any
-    still = False  # the last call changed nothing but the clock (it found the model at rest)
-
     def _start_clock(self, t0):
-        """Clock at t0 [s], mode FREE, no work cap."""
+        """Clock at t0 [s], mode FREE, no work cap, and the defaults a model may change after
+        (set here, not as class attributes: the compiled build keeps them in C fields, stepping.pxd)."""
+        self._passes_through = False  # angle form: a closing pair passes through the stop
+        self._coaster = None  # the model's segment-free free flight (coast(state..., fx, fy, T)), if any
+        self.still = False  # the last call changed nothing but the clock (it found the model at rest)
+        self.halted = False  # set by a model whose motion ends (a collapsed building): the loop stops at once
         self.t = t0
         self.t_lo = 0.0  # the state's time is t + t_lo exactly: t_lo keeps what rounding t dropped
         self.mode, self.side, self.fresh = FREE, 0, False  # fresh: right after a switch at this instant
@@ -196,6 +197,21 @@ class EventDriven:
         """Book a piece of tau [s] at rest (after _resting); True if an output changed."""
         raise NotImplementedError
 
+    # the model's physics the loop calls at every piece (declared here so that the compiled build
+    # calls them in C: stepping.pxd)
+
+    def _segment(self, loads, span):
+        """The segment of the current mode from the current state, for a piece of up to span [s]."""
+        raise NotImplementedError
+
+    def _move(self, seg, tau, t_end, loads, observe):
+        """Take the state at tau [s] of seg and tick the clock (t_end: the piece ends there)."""
+        raise NotImplementedError
+
+    def _coast(self, state, tau, t_end):
+        """_move to the state `state` a segment-free free flight reached after tau [s]."""
+        raise NotImplementedError
+
     def _tick(self, tau, t_end):
         """(t, t_lo) of the clock moved by tau (two-sum; t_end: the piece ends there exactly)."""
         t = self.t
@@ -208,9 +224,6 @@ class EventDriven:
         return t_end, lo + (s - t_end)
 
     # ---- events ---------------------------------------------------------------------------
-
-    #: set by a model whose motion ends (a collapsed building): the loop stops at once
-    halted = False
 
     def _own_event(self, seg, guard):
         """A zero of a guard beyond the contacts' (a model with its own events overrides this; it

@@ -1,0 +1,23 @@
+# Types for the compiled build of damper.py (Cython, pure-Python mode): Damper's stepping half
+# (_Damper: advance, observables and the per-piece methods) as a typed subclass of stepping.EventDriven, so it
+# reaches the state through C fields.  The fields stay Python objects, so the state keeps whatever
+# numbers a caller or a saved state gave it, in both builds alike.  Damper itself stays a Python
+# subclass: its methods (and _Damper's) can still be replaced on the class or on an instance.
+import cython
+
+from .stepping cimport EventDriven
+
+
+cdef class _Damper(EventDriven):
+    cdef public object p, model, x, v, y, u, energy, energy0, work_in, viscous, dissipated, e_applied
+    cdef public object contacts, on_impact, on_collapse, _follow, _observables
+
+    cpdef _energy(self)
+
+    cpdef double _phase(self) except? -1.0
+
+    cpdef _segment(self, fc, double horizon)
+
+    cpdef _coast(self, state, double tau, t_end)
+
+    cpdef _move(self, seg, double tau, t_end, fc, observe)
