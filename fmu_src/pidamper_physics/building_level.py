@@ -421,6 +421,24 @@ class WithStoreys:
     def __getattr__(self, name):
         return getattr(self.seg, name)
 
+    # the particle segment's, asked for every piece: passed on by name (__getattr__ is reached only
+    # after a failed lookup, which formats an AttributeError first)
+    @property
+    def start_floors(self):
+        return self.seg.start_floors
+
+    def floors_at(self, tau):
+        return self.seg.floors_at(tau)
+
+    def positions(self, tau):
+        return self.seg.positions(tau)
+
+    def others(self, tau):
+        return self.seg.others(tau)
+
+    def take_peaks(self, peaks, tau, ground):
+        self.seg.take_peaks(peaks, tau, ground)
+
     def values(self, tau):
         return tuple(self.seg.values(tau)) + tuple(self.storey.values(tau))
 
