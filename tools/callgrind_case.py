@@ -4,8 +4,8 @@ load, for before and after a change.
 
     python tools/callgrind_case.py [--tree DIR] [--case NAME] [--steps 1500] [--top 15]
 
-Runs the case's loop (Damper.advance over steps of 0.01 s; the outputs are not read) under
-`valgrind --tool=callgrind`, counting only inside Damper.advance, in the tree's physics as it
+Runs the case's loop (Damper.advance, or YieldingMotion.advance for the bare building, over steps
+of 0.01 s) under `valgrind --tool=callgrind`, counting only inside that advance, in the tree's physics as it
 imports there (compiled if that tree is compiled: python -m build_fmu.compile there first).
 Prints the instructions per step in all and, for the physics' own functions, their inclusive
 instructions per step and share.  Needs valgrind.
@@ -18,7 +18,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from speed_compare import CASES, RUNNER
+from speed_compare import BARE, CASES, runner
 
 ROOT = Path(__file__).resolve().parents[1]
 _FUNCTION = re.compile(r"^\s*([\d,]+) \(\s*[\d.]+%\)\s+\S*?:(?:__pyx_pw|__pyx_f)_\d+pidamper_physics_(\w+?)\s*(?:\[|$)")
@@ -42,13 +42,14 @@ def readable(mangled):
 
 
 def profile(tree, case, steps):
-    """(instructions in Damper.advance, {function: inclusive instructions}) over `steps` steps."""
+    """(instructions in the case's advance, {function: inclusive instructions}) over `steps` steps."""
     with tempfile.TemporaryDirectory() as tmp:
         script, out = Path(tmp) / "case.py", Path(tmp) / "callgrind.out"
-        script.write_text(RUNNER.format(case=CASES[case]))
+        script.write_text(runner(case))
         env = dict(os.environ, PYTHONPATH=str(Path(tree) / "fmu_src"))
         subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}",
-                        "--toggle-collect=*Damper_*advance", sys.executable, str(script), str(steps)],
+                        f"--toggle-collect=*{'YieldingMotion' if case == BARE else 'Damper'}_*advance", sys.executable,
+                        str(script), str(steps)],
                        env=env, check=True, capture_output=True)
         text = subprocess.run(["callgrind_annotate", "--inclusive=yes", str(out)], check=True,
                               capture_output=True, text=True).stdout
@@ -65,7 +66,7 @@ def profile(tree, case, steps):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tree", default=str(ROOT), help="source tree (default: this one)")
-    parser.add_argument("--case", default="3-storey yielding building with damper", choices=sorted(CASES))
+    parser.add_argument("--case", default="3-storey yielding building with damper", choices=sorted(CASES) + [BARE])
     parser.add_argument("--steps", type=int, default=1500)
     parser.add_argument("--top", type=int, default=15)
     args = parser.parse_args(argv)

@@ -60,9 +60,34 @@ print((time.process_time() - t0) / steps * 1e6, d.impacts)
 """
 
 
+#: the bare yielding building of docs/yielding (P-Delta, its 2 m/s2 pulse on [0.5, 0.8) s repeated
+#: every 6 s) stepped by YieldingMotion.advance, with the outputs ShearBuilding3 packs; "impacts":
+#: its storeys' events
+BARE = "3-storey yielding building, bare"
+BARE_RUNNER = """
+import sys, time
+from pidamper_physics.yielding import building_motion
+steps = int(sys.argv[1])
+core = building_motion([1e5] * 3, [8e7] * 3, [3.0] * 3, 0.02, [6e5, 5e5, 3e5], [0.02] * 3, 1)
+zero = [0.0] * 3
+t0 = time.process_time()
+for i in range(steps):
+    core.advance((i + 1) * 0.01, zero, 2.0 if 50 <= i % 600 < 80 else 0.0)
+    x, v = core.floors()
+    core.absolute_accelerations(zero, x, v)
+    core.storey_forces(), core.plastic_drifts(), core.energy(), core.base_shear()
+print((time.process_time() - t0) / steps * 1e6, core.storeys.events)
+"""
+
+
+def runner(case):
+    """The script that times `case` (argv[1]: steps; prints us per step and the impacts or events)."""
+    return BARE_RUNNER if case == BARE else RUNNER.format(case=CASES[case])
+
+
 def one_run(tree, case, steps, pure="0"):
     env = dict(os.environ, PYTHONPATH=str(Path(tree) / "fmu_src"), PIDAMPER_PURE=pure)
-    out = subprocess.run([sys.executable, "-c", RUNNER.format(case=CASES[case]), str(steps)], env=env,
+    out = subprocess.run([sys.executable, "-c", runner(case), str(steps)], env=env,
                          capture_output=True, text=True, check=True).stdout.split()
     return float(out[0]), int(out[1])
 
@@ -119,7 +144,8 @@ def main(argv=None):
     parser.add_argument("--base", required=True, help="git revision of the old code (e.g. the merge-base)")
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--steps", type=int, default=20000)
-    parser.add_argument("--case", action="append", choices=sorted(CASES), help="only these cases (default: all)")
+    parser.add_argument("--case", action="append", choices=sorted(CASES) + [BARE],
+                        help="only these cases (default: all)")
     args = parser.parse_args(argv)
     with base_tree(args.base) as base:
         builds = builds_of(base)
@@ -130,7 +156,7 @@ def main(argv=None):
               "process CPU time\n")
         heads = [f"{label} us/step" for label, _, _ in builds] + [f"{label} / {old}" for label, old in ratios]
         print("| case | " + " | ".join(heads) + " | impacts |\n|---|" + "---:|" * (len(heads) + 1))
-        for case in args.case or CASES:
+        for case in args.case or [*CASES, BARE]:
             cost, impacts = measure(builds, [case], args.runs, args.steps)[case]
             cells = [f"{cost[label]:.2f}" for label, _, _ in builds]
             cells += [f"{cost[label] / cost[old]:.3f}" for label, old in ratios]

@@ -25,7 +25,7 @@ from pidamper.machine import describe
 ROOT = Path(__file__).resolve().parents[1]
 YIELDING, RESONANCE = "3-storey yielding building with damper", "impacts (resonance)"
 TALL, NO_CONTACT = "10-storey building with damper", "no contact"
-PROFILED = (YIELDING, TALL, RESONANCE)
+PROFILED = (YIELDING, TALL, RESONANCE, speed_compare.BARE)
 MODELS = ("DampedShearBuilding3", "ShearBuilding3", "PendulumImpactDamper")
 
 
@@ -65,7 +65,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     with speed_compare.base_tree(args.base) as base:
         builds = speed_compare.builds_of(base)
-        core = speed_compare.measure(builds, list(speed_compare.CASES), args.runs, args.steps)
+        core = speed_compare.measure(builds, [*speed_compare.CASES, speed_compare.BARE], args.runs, args.steps)
         profiles = {case: (callgrind_case.profile(base, case, args.profile_steps),
                            callgrind_case.profile(ROOT, case, args.profile_steps)) for case in PROFILED}
         with speed_compare.tempfile.TemporaryDirectory() as tmp:
@@ -122,13 +122,15 @@ def render(args, builds, core, profiles, native, moving, frontier, wall, workers
         "",
         "## The core per communication step of 0.01 s, every build",
         "",
-        f"`Damper.advance` and the outputs the FMU reads, {args.steps} steps (tools/speed_compare.py's cases); "
+        f"`Damper.advance` and the outputs the FMU reads, {args.steps} steps (tools/speed_compare.py's cases; the "
+        "bare building: `YieldingMotion.advance` and the outputs `ShearBuilding3` packs, its impacts column "
+        "the storeys' events); "
         "plain: `PIDAMPER_PURE=1`, the Python that runs as it is; compiled: the same sources compiled "
         "(`python -m build_fmu.compile`).",
         "",
         table(["case"] + [f"{label} us/step" for label in labels] + ["impacts"], core_rows),
         "",
-        "## Instructions per step (callgrind, inside `Damper.advance`)",
+        "## Instructions per step (callgrind, inside `Damper.advance` or `YieldingMotion.advance`)",
         "",
         f"{args.profile_steps} steps; `python tools/callgrind_case.py --case CASE` in each tree.",
         "",
