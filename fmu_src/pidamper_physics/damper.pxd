@@ -5,17 +5,20 @@
 # subclass: its methods (and _Damper's) can still be replaced on the class or on an instance.
 import cython
 
+from .level_model cimport LevelModel
 from .stepping cimport EventDriven
 
 
 cdef class _Damper(EventDriven):
-    cdef public object p, model, x, v, y, u, energy, energy0, work_in, viscous, dissipated, e_applied
+    cdef public LevelModel model
+    cdef public object p, energy, energy0, work_in, viscous, dissipated, e_applied
     cdef public object contacts, on_impact, on_collapse, _follow, _observables
 
     cpdef _energy(self)
 
     cpdef double _phase(self) except? -1.0
 
+    @cython.locals(model=LevelModel)
     cpdef _segment(self, fc, double horizon)
 
     cpdef _coast(self, state, double tau, t_end)

@@ -168,10 +168,10 @@ class _Damper(EventDriven):
     def _coast(self, state, tau, t_end):
         """_move for a free flight the level computed without a segment (no dashpots to book)."""
         t_new, lo = self._tick(tau, t_end)
-        self.x, self.v, self.y, self.u = state
+        self.x, self.v, self.y, self.u = x, v, y, u = state
         if tau > 0.0:
             self.fresh = False
-        e_new = self.model.energy(*state)
+        e_new = self.model.energy(x, v, y, u)
         self.work_in += e_new - self.energy
         self.energy = e_new
         self.t, self.t_lo = t_new, lo

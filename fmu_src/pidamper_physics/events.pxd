@@ -1,5 +1,6 @@
 # Types for the compiled build of events.py (Cython, pure-Python mode): the location loop in C doubles.
 import cython
+from libc cimport math as _libm
 
 cdef double _INF
 

@@ -167,7 +167,7 @@ class ModalModel(_Displacements):
         if self.coupled:
             r = y - x
             return 0.5 * p.M * (v * v + (1.0 + p.mu) * p.w2 * p.w2 * x * x) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
-        return LinearModel.energy(self, x, v, y, u)
+        return _linear_energy(self.consts, x, v, y, u)
 
     def particle_swing(self, x, v, y, u):
         return (y - x, u - v) if self.coupled else (y, u)

@@ -15,10 +15,12 @@ fy = -a_g on the particle (a_g the ground acceleration of a base excitation), an
 built-in harmonic at phase psi = Omega t0 + phi.  See events.py for the guard protocol.
 """
 import math
-import math as _libm  # sin, cos: in the compiled build libc's (segments.pxd: from libc cimport math as _libm), the
+import math as _libm  # sin, cos, sqrt: in the compiled build libc's (segments.pxd: from libc cimport math as _libm), the
 # very functions CPython's math.sin and math.cos call (math.hypot is CPython's own: kept from math)
 
 from .oscillator import oscillator
+
+_hypot = math.hypot  # CPython's own (not libm's), bound once: a module attribute costs a lookup per call
 
 _EPS = 2.220446049250313e-16
 _ULPS = 64.0  # rounding allowance of a computed guard, in units of eps * its scale
@@ -63,7 +65,7 @@ def coast(p, x, v, y, u, fx, fy, T):
     a2, b2 = x - fx / ww2, v / w2
     a1, b1 = y - fy / ww1, u / w1
     D = p.D
-    r2, r1 = math.hypot(a2, b2), math.hypot(a1, b1)
+    r2, r1 = _hypot(a2, b2), _hypot(a1, b1)
     swing = p.cx * (abs(x - a2) + r2) + p.cy * (abs(y - a1) + r1)
     growth = 1.0 + max(w1, w2, p.Omega_acting) * T
     if not swing < D - TOLERANCE * (D + swing) * growth:  # the all-time swing may reach a stop: try the piece's reach
@@ -219,7 +221,7 @@ class Stick:
         """__init__'s body (typed in the compiled build: segments.pxd)."""
         mu, w1, w2, d = p.mu, p.w1, p.w2, p.d
         ww1 = w1 * w1
-        big_w = math.sqrt((w2 * w2 + mu * ww1) / (1.0 + mu))
+        big_w = _libm.sqrt((w2 * w2 + mu * ww1) / (1.0 + mu))  # correctly rounded: libc's equals CPython's
         a = p.F0 / p.M / (1.0 + mu)
         c = (mu * ww1 * sgn * d + fx + mu * fy) / (1.0 + mu)
         self.osc = osc = oscillator(big_w, x, v, c, a, p.Omega, psi)

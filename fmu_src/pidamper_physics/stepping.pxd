@@ -7,6 +7,7 @@ import cython
 
 cdef class EventDriven:
     cdef dict __dict__  # models keep their own attributes (and tests may replace a method on an instance)
+    cdef public object x, v, y, u  # the state a segment-free flight starts from (a model's own: Damper's)
     cdef public object t, t_lo, mode, side, fresh, impacts, pieces, max_pieces, _coaster
     cdef public double _max_span, _clearance
     cdef public bint _may_coast, _passes_through, still, halted
