@@ -16,6 +16,7 @@ cdef class _Damper(EventDriven):
 
     cpdef _energy(self)
 
+    @cython.locals(om=cython.double, phi=cython.double, t=cython.double, lo=cython.double)
     cpdef double _phase(self) except? -1.0
 
     @cython.locals(model=LevelModel)

@@ -182,7 +182,8 @@ class _Damper(EventDriven):
     def _phase(self):
         """Phase [rad] of the built-in harmonic force at the state's time."""
         p = self.p
-        return p.Omega * self.t + p.phi + p.Omega * self.t_lo
+        om, phi, t, lo = p.Omega, p.phi, self.t, self.t_lo
+        return om * t + phi + om * lo
 
     def _flight(self, fc, span):
         """Free flight from the current state with its bounds built (after a contact)."""

@@ -103,7 +103,7 @@ def locate(seg, tau_end, fresh=False):
     base0, growth = base[0], seg.growth
     b2 = seg.bounds[0]
     tau = 0.0
-    for _ in range(MAX_PASSES):
+    for passes in range(MAX_PASSES):
         step = _INF
         near = -1
         others = None  # the guards next to zero besides `near` (two surfaces closer than rounding)

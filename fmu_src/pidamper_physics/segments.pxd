@@ -6,6 +6,8 @@ from libc cimport math as _libm
 from .oscillator cimport Oscillator, oscillator
 
 
+cdef double _TOL, _RESOLUTION
+
 cpdef double noise_size(double swing, double reach, double D) except? -1.0
 
 cdef class LinearParams:

@@ -30,6 +30,7 @@ TOLERANCE = _ULPS * _EPS  # relative rounding level of a guard at tau = 0
 #: a gap's rounding level must stay below the clearance / GAP_RESOLUTION for contacts to be resolved
 #: (d = 1e-9 m under swings of 0.7 m is resolved: its rounding level is 1e-14 m)
 GAP_RESOLUTION = 1e3
+_TOL, _RESOLUTION = TOLERANCE, GAP_RESOLUTION  # the same, read by the closed forms (C doubles when compiled)
 
 
 def noise_size(swing, reach, D):
@@ -37,7 +38,7 @@ def noise_size(swing, reach, D):
     (independent of the piece's length, so event decisions do not depend on the step size),
     unless that is too large to resolve the clearance D (a held load that dwarfs the restoring
     force): then the motion's reach over the piece, which the start-relative closed form honours."""
-    return swing if TOLERANCE * (D + swing) * GAP_RESOLUTION <= D else min(swing, reach)
+    return swing if _TOL * (D + swing) * _RESOLUTION <= D else min(swing, reach)
 # Trig arguments w tau lose eps * w tau absolute, so a segment's rounding levels grow as
 # noise * (1 + growth * tau): events.locate scales them to the tau it classifies at.
 
@@ -68,10 +69,10 @@ def coast(p, x, v, y, u, fx, fy, T):
     r2, r1 = _hypot(a2, b2), _hypot(a1, b1)
     swing = p.cx * (abs(x - a2) + r2) + p.cy * (abs(y - a1) + r1)
     growth = 1.0 + max(w1, w2, p.Omega_acting) * T
-    if not swing < D - TOLERANCE * (D + swing) * growth:  # the all-time swing may reach a stop: try the piece's reach
+    if not swing < D - _TOL * (D + swing) * growth:  # the all-time swing may reach a stop: try the piece's reach
         zmax = (p.cx * min(abs(x - a2) + r2, abs(x) + abs(v) * T + 0.5 * ww2 * r2 * T * T) +
                 p.cy * min(abs(y - a1) + r1, abs(y) + abs(u) * T + 0.5 * ww1 * r1 * T * T))
-        if not zmax < D - TOLERANCE * (D + noise_size(swing, zmax, D)) * growth:
+        if not zmax < D - _TOL * (D + noise_size(swing, zmax, D)) * growth:
             return None
     h2, h1 = 0.5 * w2 * T, 0.5 * w1 * T
     sh2, sh1 = _libm.sin(h2), _libm.sin(h1)
@@ -110,7 +111,7 @@ class Flight:
         (x_lo, x_hi), (y_lo, y_hi) = px.reach(T), py.reach(T)
         zmax = cx * max(-x_lo, x_hi) + cy * max(-y_lo, y_hi)
         swing = cx * (abs(px.xe) + px.R + xh) + cy * (abs(py.xe) + py.R)
-        tol = TOLERANCE
+        tol = _TOL
         self.growth = max(p.w1, p.w2, p.Omega_acting)
         n0 = tol * (D + noise_size(swing, zmax, D))
         self.clear = zmax < D - n0 * (1.0 + self.growth * T)
@@ -235,7 +236,7 @@ class Stick:
         P0, P1, P2, P3, P4 = P[0], P[1], P[2], P[3], P[4]
         aa, om = abs(a), p.Omega
         self.bounds = (abs(k) * P2 + aa * om ** 2, abs(k) * P3 + aa * om ** 3, abs(k) * P4 + aa * om ** 4)
-        tol = TOLERANCE
+        tol = _TOL
         self.growth = max(big_w, p.Omega_acting)
         lo, hi = osc.reach(T)
         size = noise_size(abs(osc.xe) + P0, max(-lo, hi), d)
