@@ -19,6 +19,8 @@ cdef class _Damper(EventDriven):
     @cython.locals(om=cython.double, phi=cython.double, t=cython.double, lo=cython.double)
     cpdef double _phase(self) except? -1.0
 
+    cpdef _resting(self, fc)
+
     @cython.locals(model=LevelModel)
     cpdef _segment(self, fc, double horizon)
 

@@ -31,7 +31,9 @@ cdef class Flight:
     @cython.locals(a=cython.double, px=Oscillator, py=Oscillator, cx=cython.double, cy=cython.double,
                    D=cython.double, xh=cython.double, x_lo=cython.double, x_hi=cython.double,
                    y_lo=cython.double, y_hi=cython.double, zmax=cython.double, swing=cython.double,
-                   tol=cython.double, n0=cython.double, bx=tuple, by=tuple)
+                   tol=cython.double, n0=cython.double, bx=tuple, by=tuple, bx1=cython.double,
+                   bx2=cython.double, bx3=cython.double, bx4=cython.double, by1=cython.double, by2=cython.double,
+                   by3=cython.double, by4=cython.double)
     cpdef _init(self, LinearParams p, double x, double v, double y, double u, double fx, double fy, double psi, double T,
                 bint always_bound)
 

@@ -118,12 +118,13 @@ class Flight:
         if self.clear and not always_bound:  # no stop within reach: bounds and noise are not needed
             self.bounds = self.noise = None
             return
-        bx = px.bounds(T)
-        by = py.bounds(T)
-        self.bounds = (cx * bx[2] + cy * by[2], cx * bx[3] + cy * by[3], cx * bx[4] + cy * by[4])
-        self.noise = (n0, tol * (cx * bx[1] + cy * by[1]),
-                      tol * (cx * (bx[2] + px.ww * abs(px.xe)) + cy * (by[2] + py.ww * abs(py.xe))),
-                      tol * (cx * bx[3] + cy * by[3]))
+        bx, by = px.bounds(T), py.bounds(T)
+        bx1, bx2, bx3, bx4 = bx[1], bx[2], bx[3], bx[4]
+        by1, by2, by3, by4 = by[1], by[2], by[3], by[4]
+        self.bounds = (cx * bx2 + cy * by2, cx * bx3 + cy * by3, cx * bx4 + cy * by4)
+        self.noise = (n0, tol * (cx * bx1 + cy * by1),
+                      tol * (cx * (bx2 + px.ww * abs(px.xe)) + cy * (by2 + py.ww * abs(py.xe))),
+                      tol * (cx * bx3 + cy * by3))
 
     def positions(self, tau):
         """(x, v, y, u) at tau."""

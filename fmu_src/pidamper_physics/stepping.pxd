@@ -16,6 +16,8 @@ cdef class EventDriven:
                    tau=cython.double, guard=cython.Py_ssize_t, rest=cython.bint, still=cython.bint)
     cpdef _run(self, t_end, loads, observe=*)
 
+    cpdef _resting(self, loads)
+
     cpdef _segment(self, loads, double span)
 
     cpdef _move(self, seg, double tau, t_end, loads, observe)
