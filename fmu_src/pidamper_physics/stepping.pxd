@@ -4,6 +4,8 @@
 # stay Python objects, so both builds keep what they were given; the loop's own locals are C doubles.
 import cython
 
+from .events cimport classify, locate, resolution_speed
+
 
 cdef class EventDriven:
     cdef dict __dict__  # models keep their own attributes (and tests may replace a method on an instance)
@@ -24,5 +26,6 @@ cdef class EventDriven:
 
     cpdef _coast(self, state, double tau, t_end)
 
-    @cython.locals(t=cython.double, s=cython.double, b=cython.double, lo=cython.double, t_new=cython.double)
+    @cython.locals(t=cython.double, s=cython.double, b=cython.double, lo=cython.double, t_new=cython.double,
+                   end=cython.double)
     cpdef tuple _tick(self, double tau, t_end)
