@@ -14,6 +14,10 @@ cdef class _Damper(EventDriven):
     cdef public object p, energy, energy0, work_in, viscous, dissipated, e_applied
     cdef public object contacts, on_impact, on_collapse, _follow, _observables
 
+    @cython.locals(x=cython.double, v=cython.double, y=cython.double, u=cython.double, e=cython.double,
+                   w=cython.double, check=cython.double)
+    cpdef bint _in_range(self) except -1
+
     cpdef _energy(self)
 
     @cython.locals(om=cython.double, phi=cython.double, t=cython.double, lo=cython.double)

@@ -91,9 +91,14 @@ class _Damper(EventDriven):
             self.still = False
             return
         self._run(t_end, (force / self.p.M - ground, -ground), observe)  # loads per mass: primary, particle
-        check = self.x + self.v + self.y + self.u + self.energy + self.work_in
-        if check - check != 0.0:  # a value overflowed: refuse rather than answer inf or nan
+        if not self._in_range():  # a value overflowed: refuse rather than answer inf or nan
             self._overflowed(force, ground)
+
+    def _in_range(self):
+        """False when a value of the state (or the books) is not finite, or their sum overflows."""
+        x, v, y, u, e, w = self.x, self.v, self.y, self.u, self.energy, self.work_in
+        check = x + v + y + u + e + w
+        return check - check == 0.0
 
     def observables(self, force=0.0, ground=0.0):
         """(theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force) in one call [rad, rad/s, m,
