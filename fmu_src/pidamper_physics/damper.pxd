@@ -25,6 +25,8 @@ cdef class _Damper(EventDriven):
 
     cpdef _resting(self, fc)
 
+    cpdef _applied(self, force)
+
     @cython.locals(model=LevelModel)
     cpdef _segment(self, fc, double horizon)
 

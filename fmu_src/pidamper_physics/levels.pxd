@@ -18,6 +18,9 @@ cdef class LinearModel(_Displacements):
 
     cpdef energy(self, x, v, y, u)
 
+    @cython.locals(p=LinearParams, L2=cython.double, L1=cython.double, ww2=cython.double)
+    cpdef tuple observables(self, x, v, y, u, side, f, ground)
+
 
 @cython.locals(M=cython.double, m=cython.double, w2=cython.double, w1=cython.double)
 cpdef double _linear_energy(LinearParams p, double x, double v, double y, double u) except? -1.0

@@ -107,7 +107,7 @@ class LinearModel(_Displacements):
         """Damper.observables of this level inline (the FMU's outputs at every step): the same
         operations in the same order as angles, acceleration and contact_accel, so the same
         values to the last bit."""
-        p = self.p
+        p = self.consts
         L2, L1, ww2 = p.L2, p.L1, p.w2 * p.w2
         if not side:
             return x / L2, v / L2, y / L1, u / L1, x, y, f - ww2 * x - ground, 0.0

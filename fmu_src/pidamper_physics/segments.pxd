@@ -11,7 +11,7 @@ cdef double _TOL, _RESOLUTION
 cpdef double noise_size(double swing, double reach, double D) except? -1.0
 
 cdef class LinearParams:
-    cdef public double w2, w1, D, cx, cy, Omega_acting, F0, M, Omega, mu, d, m
+    cdef public double w2, w1, D, cx, cy, Omega_acting, F0, M, Omega, mu, d, m, L2, L1
 
 @cython.locals(w2=cython.double, w1=cython.double, ww2=cython.double, ww1=cython.double, a2=cython.double,
                b2=cython.double, a1=cython.double, b1=cython.double, D=cython.double, r2=cython.double,

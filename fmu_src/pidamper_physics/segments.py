@@ -44,16 +44,16 @@ def noise_size(swing, reach, D):
 
 
 class LinearParams:
-    """The parameters the linear level's closed forms read (coast, Flight, Stick, levels' energy), taken
-    from Params p once: the compiled build keeps them in C doubles, so building a segment reads no
-    Python attributes.  p.e is not among them (set_restitution changes it)."""
+    """The parameters the linear level's closed forms read (coast, Flight, Stick, levels' energy and
+    outputs), taken from Params p once: the compiled build keeps them in C doubles, so building a
+    segment reads no Python attributes.  p.e is not among them (set_restitution changes it)."""
 
-    __slots__ = ("w2", "w1", "D", "cx", "cy", "Omega_acting", "F0", "M", "Omega", "mu", "d", "m")
+    __slots__ = ("w2", "w1", "D", "cx", "cy", "Omega_acting", "F0", "M", "Omega", "mu", "d", "m", "L2", "L1")
 
     def __init__(self, p):
         self.w2, self.w1, self.D, self.cx, self.cy = p.w2, p.w1, p.D, p.cx, p.cy
         self.Omega_acting, self.F0, self.M, self.Omega = p.Omega_acting, p.F0, p.M, p.Omega
-        self.mu, self.d, self.m = p.mu, p.d, p.m
+        self.mu, self.d, self.m, self.L2, self.L1 = p.mu, p.d, p.m, p.L2, p.L1
 
 
 def coast(p, x, v, y, u, fx, fy, T):
