@@ -91,9 +91,14 @@ class _Damper(EventDriven):
             self.still = False
             return
         self._run(t_end, (force / self.p.M - ground, -ground), observe)  # loads per mass: primary, particle
-        check = self.x + self.v + self.y + self.u + self.energy + self.work_in
-        if check - check != 0.0:  # a value overflowed: refuse rather than answer inf or nan
+        if not self._in_range():  # a value overflowed: refuse rather than answer inf or nan
             self._overflowed(force, ground)
+
+    def _in_range(self):
+        """False when a value of the state (or the books) is not finite, or their sum overflows."""
+        x, v, y, u, e, w = self.x, self.v, self.y, self.u, self.energy, self.work_in
+        check = x + v + y + u + e + w
+        return check - check == 0.0
 
     def observables(self, force=0.0, ground=0.0):
         """(theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force) in one call [rad, rad/s, m,
@@ -168,10 +173,10 @@ class _Damper(EventDriven):
     def _coast(self, state, tau, t_end):
         """_move for a free flight the level computed without a segment (no dashpots to book)."""
         t_new, lo = self._tick(tau, t_end)
-        self.x, self.v, self.y, self.u = state
+        self.x, self.v, self.y, self.u = x, v, y, u = state
         if tau > 0.0:
             self.fresh = False
-        e_new = self.model.energy(*state)
+        e_new = self.model.energy(x, v, y, u)
         self.work_in += e_new - self.energy
         self.energy = e_new
         self.t, self.t_lo = t_new, lo
@@ -182,7 +187,8 @@ class _Damper(EventDriven):
     def _phase(self):
         """Phase [rad] of the built-in harmonic force at the state's time."""
         p = self.p
-        return p.Omega * self.t + p.phi + p.Omega * self.t_lo
+        om, phi, t, lo = p.Omega, p.phi, self.t, self.t_lo
+        return om * t + phi + om * lo
 
     def _flight(self, fc, span):
         """Free flight from the current state with its bounds built (after a contact)."""

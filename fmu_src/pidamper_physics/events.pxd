@@ -1,5 +1,6 @@
 # Types for the compiled build of events.py (Cython, pure-Python mode): the location loop in C doubles.
 import cython
+from libc cimport math as _libm
 
 cdef double _INF
 
@@ -16,7 +17,7 @@ cpdef double departure_step(Py_ssize_t order, double dk, double vres, tuple boun
 @cython.locals(base=tuple, base0=cython.double, growth=cython.double, b2=cython.double, tau=cython.double,
                step=cython.double, near=cython.Py_ssize_t, n0=cython.double, i=cython.Py_ssize_t,
                g=cython.double, g1=cython.double, root=cython.double, s=cython.double, nxt=cython.double,
-               scale=cython.double, away=cython.double)
+               scale=cython.double, away=cython.double, passes=cython.Py_ssize_t)
 cpdef locate(seg, double tau_end, bint fresh=*)
 
 @cython.locals(g=cython.double, g1=cython.double, g2=cython.double, g3=cython.double, n1=cython.double,

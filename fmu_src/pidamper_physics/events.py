@@ -34,6 +34,7 @@ never reported again, which rules out ping-pong between two modes at one
 instant.
 """
 import math
+import math as _libm  # sqrt: in the compiled build libc's (events.pxd), correctly rounded as CPython's math.sqrt
 import struct
 
 from .params import ParameterError
@@ -58,7 +59,7 @@ def safe_step(g, g1, b2):
     """Smallest positive root of g + g1 s - b2 s^2 / 2 (g > 0): g stays positive before it."""
     if b2 <= 0.0:
         return g / -g1 if g1 < 0.0 else _INF
-    root = math.sqrt(g1 * g1 + 2.0 * b2 * g)
+    root = _libm.sqrt(g1 * g1 + 2.0 * b2 * g)
     if g1 <= 0.0:
         return 2.0 * g / (root - g1)
     return (g1 + root) / b2
@@ -77,7 +78,7 @@ def classify(g1, g2, g3, vres, n2, n3):
 
 def resolution_speed(g2, n0, n1, n2):
     """Smallest approach speed whose crossing the position resolution n0 can resolve."""
-    return max(n1, math.sqrt(2.0 * (abs(g2) + n2) * n0))
+    return max(n1, _libm.sqrt(2.0 * (abs(g2) + n2) * n0))
 
 
 def departure_step(order, dk, vres, bounds):
@@ -102,7 +103,7 @@ def locate(seg, tau_end, fresh=False):
     base0, growth = base[0], seg.growth
     b2 = seg.bounds[0]
     tau = 0.0
-    for _ in range(MAX_PASSES):
+    for passes in range(MAX_PASSES):
         step = _INF
         near = -1
         others = None  # the guards next to zero besides `near` (two surfaces closer than rounding)
@@ -117,7 +118,7 @@ def locate(seg, tau_end, fresh=False):
                 continue
             g1 = values[i + 1]  # safe_step(g, g1, b2), inlined: this is the innermost loop
             if b2 > 0.0:
-                root = math.sqrt(g1 * g1 + 2.0 * b2 * g)
+                root = _libm.sqrt(g1 * g1 + 2.0 * b2 * g)
                 s = 2.0 * g / (root - g1) if g1 <= 0.0 else (g1 + root) / b2
             else:
                 s = g / -g1 if g1 < 0.0 else _INF

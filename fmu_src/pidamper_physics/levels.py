@@ -107,7 +107,7 @@ class LinearModel(_Displacements):
         """Damper.observables of this level inline (the FMU's outputs at every step): the same
         operations in the same order as angles, acceleration and contact_accel, so the same
         values to the last bit."""
-        p = self.p
+        p = self.consts
         L2, L1, ww2 = p.L2, p.L1, p.w2 * p.w2
         if not side:
             return x / L2, v / L2, y / L1, u / L1, x, y, f - ww2 * x - ground, 0.0
@@ -167,7 +167,7 @@ class ModalModel(_Displacements):
         if self.coupled:
             r = y - x
             return 0.5 * p.M * (v * v + (1.0 + p.mu) * p.w2 * p.w2 * x * x) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
-        return LinearModel.energy(self, x, v, y, u)
+        return _linear_energy(self.consts, x, v, y, u)
 
     def particle_swing(self, x, v, y, u):
         return (y - x, u - v) if self.coupled else (y, u)

@@ -32,6 +32,8 @@ import math
 import math as _libm  # sin, cos: in the compiled build libc's (oscillator.pxd: from libc cimport math as _libm), the
 # very functions CPython's math.sin and math.cos call (math.hypot is CPython's own: kept from math)
 
+_hypot = math.hypot  # bound once: a module attribute costs a lookup per call
+
 
 class Oscillator:
     """One segment of x'' + w^2 x = c + a sin(Omega tau + psi); see the module doc."""
@@ -51,7 +53,7 @@ class Oscillator:
         self.A = x0 - self.xe
         self.B = v0 / w
         self.wa = w * self.A
-        self.R = math.hypot(self.A, self.B)
+        self.R = _hypot(self.A, self.B)
         self.a = a
         self.om = om
         if a != 0.0:

@@ -6,10 +6,12 @@ from libc cimport math as _libm
 from .oscillator cimport Oscillator, oscillator
 
 
+cdef double _TOL, _RESOLUTION
+
 cpdef double noise_size(double swing, double reach, double D) except? -1.0
 
 cdef class LinearParams:
-    cdef public double w2, w1, D, cx, cy, Omega_acting, F0, M, Omega, mu, d, m
+    cdef public double w2, w1, D, cx, cy, Omega_acting, F0, M, Omega, mu, d, m, L2, L1
 
 @cython.locals(w2=cython.double, w1=cython.double, ww2=cython.double, ww1=cython.double, a2=cython.double,
                b2=cython.double, a1=cython.double, b1=cython.double, D=cython.double, r2=cython.double,
@@ -29,7 +31,9 @@ cdef class Flight:
     @cython.locals(a=cython.double, px=Oscillator, py=Oscillator, cx=cython.double, cy=cython.double,
                    D=cython.double, xh=cython.double, x_lo=cython.double, x_hi=cython.double,
                    y_lo=cython.double, y_hi=cython.double, zmax=cython.double, swing=cython.double,
-                   tol=cython.double, n0=cython.double, bx=tuple, by=tuple)
+                   tol=cython.double, n0=cython.double, bx=tuple, by=tuple, bx1=cython.double,
+                   bx2=cython.double, bx3=cython.double, bx4=cython.double, by1=cython.double, by2=cython.double,
+                   by3=cython.double, by4=cython.double)
     cpdef _init(self, LinearParams p, double x, double v, double y, double u, double fx, double fy, double psi, double T,
                 bint always_bound)
 

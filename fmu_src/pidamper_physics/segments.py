@@ -15,10 +15,12 @@ fy = -a_g on the particle (a_g the ground acceleration of a base excitation), an
 built-in harmonic at phase psi = Omega t0 + phi.  See events.py for the guard protocol.
 """
 import math
-import math as _libm  # sin, cos: in the compiled build libc's (segments.pxd: from libc cimport math as _libm), the
+import math as _libm  # sin, cos, sqrt: in the compiled build libc's (segments.pxd: from libc cimport math as _libm), the
 # very functions CPython's math.sin and math.cos call (math.hypot is CPython's own: kept from math)
 
 from .oscillator import oscillator
+
+_hypot = math.hypot  # CPython's own (not libm's), bound once: a module attribute costs a lookup per call
 
 _EPS = 2.220446049250313e-16
 _ULPS = 64.0  # rounding allowance of a computed guard, in units of eps * its scale
@@ -28,6 +30,7 @@ TOLERANCE = _ULPS * _EPS  # relative rounding level of a guard at tau = 0
 #: a gap's rounding level must stay below the clearance / GAP_RESOLUTION for contacts to be resolved
 #: (d = 1e-9 m under swings of 0.7 m is resolved: its rounding level is 1e-14 m)
 GAP_RESOLUTION = 1e3
+_TOL, _RESOLUTION = TOLERANCE, GAP_RESOLUTION  # the same, read by the closed forms (C doubles when compiled)
 
 
 def noise_size(swing, reach, D):
@@ -35,22 +38,22 @@ def noise_size(swing, reach, D):
     (independent of the piece's length, so event decisions do not depend on the step size),
     unless that is too large to resolve the clearance D (a held load that dwarfs the restoring
     force): then the motion's reach over the piece, which the start-relative closed form honours."""
-    return swing if TOLERANCE * (D + swing) * GAP_RESOLUTION <= D else min(swing, reach)
+    return swing if _TOL * (D + swing) * _RESOLUTION <= D else min(swing, reach)
 # Trig arguments w tau lose eps * w tau absolute, so a segment's rounding levels grow as
 # noise * (1 + growth * tau): events.locate scales them to the tau it classifies at.
 
 
 class LinearParams:
-    """The parameters the linear level's closed forms read (coast, Flight, Stick, levels' energy), taken
-    from Params p once: the compiled build keeps them in C doubles, so building a segment reads no
-    Python attributes.  p.e is not among them (set_restitution changes it)."""
+    """The parameters the linear level's closed forms read (coast, Flight, Stick, levels' energy and
+    outputs), taken from Params p once: the compiled build keeps them in C doubles, so building a
+    segment reads no Python attributes.  p.e is not among them (set_restitution changes it)."""
 
-    __slots__ = ("w2", "w1", "D", "cx", "cy", "Omega_acting", "F0", "M", "Omega", "mu", "d", "m")
+    __slots__ = ("w2", "w1", "D", "cx", "cy", "Omega_acting", "F0", "M", "Omega", "mu", "d", "m", "L2", "L1")
 
     def __init__(self, p):
         self.w2, self.w1, self.D, self.cx, self.cy = p.w2, p.w1, p.D, p.cx, p.cy
         self.Omega_acting, self.F0, self.M, self.Omega = p.Omega_acting, p.F0, p.M, p.Omega
-        self.mu, self.d, self.m = p.mu, p.d, p.m
+        self.mu, self.d, self.m, self.L2, self.L1 = p.mu, p.d, p.m, p.L2, p.L1
 
 
 def coast(p, x, v, y, u, fx, fy, T):
@@ -63,13 +66,13 @@ def coast(p, x, v, y, u, fx, fy, T):
     a2, b2 = x - fx / ww2, v / w2
     a1, b1 = y - fy / ww1, u / w1
     D = p.D
-    r2, r1 = math.hypot(a2, b2), math.hypot(a1, b1)
+    r2, r1 = _hypot(a2, b2), _hypot(a1, b1)
     swing = p.cx * (abs(x - a2) + r2) + p.cy * (abs(y - a1) + r1)
     growth = 1.0 + max(w1, w2, p.Omega_acting) * T
-    if not swing < D - TOLERANCE * (D + swing) * growth:  # the all-time swing may reach a stop: try the piece's reach
+    if not swing < D - _TOL * (D + swing) * growth:  # the all-time swing may reach a stop: try the piece's reach
         zmax = (p.cx * min(abs(x - a2) + r2, abs(x) + abs(v) * T + 0.5 * ww2 * r2 * T * T) +
                 p.cy * min(abs(y - a1) + r1, abs(y) + abs(u) * T + 0.5 * ww1 * r1 * T * T))
-        if not zmax < D - TOLERANCE * (D + noise_size(swing, zmax, D)) * growth:
+        if not zmax < D - _TOL * (D + noise_size(swing, zmax, D)) * growth:
             return None
     h2, h1 = 0.5 * w2 * T, 0.5 * w1 * T
     sh2, sh1 = _libm.sin(h2), _libm.sin(h1)
@@ -108,19 +111,20 @@ class Flight:
         (x_lo, x_hi), (y_lo, y_hi) = px.reach(T), py.reach(T)
         zmax = cx * max(-x_lo, x_hi) + cy * max(-y_lo, y_hi)
         swing = cx * (abs(px.xe) + px.R + xh) + cy * (abs(py.xe) + py.R)
-        tol = TOLERANCE
+        tol = _TOL
         self.growth = max(p.w1, p.w2, p.Omega_acting)
         n0 = tol * (D + noise_size(swing, zmax, D))
         self.clear = zmax < D - n0 * (1.0 + self.growth * T)
         if self.clear and not always_bound:  # no stop within reach: bounds and noise are not needed
             self.bounds = self.noise = None
             return
-        bx = px.bounds(T)
-        by = py.bounds(T)
-        self.bounds = (cx * bx[2] + cy * by[2], cx * bx[3] + cy * by[3], cx * bx[4] + cy * by[4])
-        self.noise = (n0, tol * (cx * bx[1] + cy * by[1]),
-                      tol * (cx * (bx[2] + px.ww * abs(px.xe)) + cy * (by[2] + py.ww * abs(py.xe))),
-                      tol * (cx * bx[3] + cy * by[3]))
+        bx, by = px.bounds(T), py.bounds(T)
+        bx1, bx2, bx3, bx4 = bx[1], bx[2], bx[3], bx[4]
+        by1, by2, by3, by4 = by[1], by[2], by[3], by[4]
+        self.bounds = (cx * bx2 + cy * by2, cx * bx3 + cy * by3, cx * bx4 + cy * by4)
+        self.noise = (n0, tol * (cx * bx1 + cy * by1),
+                      tol * (cx * (bx2 + px.ww * abs(px.xe)) + cy * (by2 + py.ww * abs(py.xe))),
+                      tol * (cx * bx3 + cy * by3))
 
     def positions(self, tau):
         """(x, v, y, u) at tau."""
@@ -219,7 +223,7 @@ class Stick:
         """__init__'s body (typed in the compiled build: segments.pxd)."""
         mu, w1, w2, d = p.mu, p.w1, p.w2, p.d
         ww1 = w1 * w1
-        big_w = math.sqrt((w2 * w2 + mu * ww1) / (1.0 + mu))
+        big_w = _libm.sqrt((w2 * w2 + mu * ww1) / (1.0 + mu))  # correctly rounded: libc's equals CPython's
         a = p.F0 / p.M / (1.0 + mu)
         c = (mu * ww1 * sgn * d + fx + mu * fy) / (1.0 + mu)
         self.osc = osc = oscillator(big_w, x, v, c, a, p.Omega, psi)
@@ -233,7 +237,7 @@ class Stick:
         P0, P1, P2, P3, P4 = P[0], P[1], P[2], P[3], P[4]
         aa, om = abs(a), p.Omega
         self.bounds = (abs(k) * P2 + aa * om ** 2, abs(k) * P3 + aa * om ** 3, abs(k) * P4 + aa * om ** 4)
-        tol = TOLERANCE
+        tol = _TOL
         self.growth = max(big_w, p.Omega_acting)
         lo, hi = osc.reach(T)
         size = noise_size(abs(osc.xe) + P0, max(-lo, hi), d)

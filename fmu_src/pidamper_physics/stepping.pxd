@@ -4,9 +4,12 @@
 # stay Python objects, so both builds keep what they were given; the loop's own locals are C doubles.
 import cython
 
+from .events cimport classify, locate, resolution_speed
+
 
 cdef class EventDriven:
     cdef dict __dict__  # models keep their own attributes (and tests may replace a method on an instance)
+    cdef public object x, v, y, u  # the state a segment-free flight starts from (a model's own: Damper's)
     cdef public object t, t_lo, mode, side, fresh, impacts, pieces, max_pieces, _coaster
     cdef public double _max_span, _clearance
     cdef public bint _may_coast, _passes_through, still, halted
@@ -15,11 +18,14 @@ cdef class EventDriven:
                    tau=cython.double, guard=cython.Py_ssize_t, rest=cython.bint, still=cython.bint)
     cpdef _run(self, t_end, loads, observe=*)
 
+    cpdef _resting(self, loads)
+
     cpdef _segment(self, loads, double span)
 
     cpdef _move(self, seg, double tau, t_end, loads, observe)
 
     cpdef _coast(self, state, double tau, t_end)
 
-    @cython.locals(t=cython.double, s=cython.double, b=cython.double, lo=cython.double, t_new=cython.double)
+    @cython.locals(t=cython.double, s=cython.double, b=cython.double, lo=cython.double, t_new=cython.double,
+                   end=cython.double)
     cpdef tuple _tick(self, double tau, t_end)

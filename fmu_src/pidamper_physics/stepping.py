@@ -221,7 +221,8 @@ class EventDriven:
         if t_end is None:
             t_new = s + lo  # renormalised: |t_lo| stays within half an ulp of t
             return t_new, lo - (t_new - s)
-        return t_end, lo + (s - t_end)
+        end = t_end  # a C double in the compiled build (the clock keeps t_end as given)
+        return t_end, lo + (s - end)
 
     # ---- events ---------------------------------------------------------------------------
 
