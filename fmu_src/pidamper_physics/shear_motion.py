@@ -201,7 +201,7 @@ class ShearMotion:
 # CPython's sum() adds its floats, so both builds give the same bits ------------------------------
 
 def combine(phi, q, n):
-    """[sum_r phi[k][r] q[r] for each floor k]: floor values from modal ones."""
+    """`[sum_r phi[k][r] q[r] for each floor k]`: floor values from modal ones."""
     out = []
     for k in range(n):
         row = phi[k]
@@ -215,7 +215,7 @@ def combine(phi, q, n):
 
 
 def accelerations(forces, K, C, m, x, v, n):
-    """[(F_k - sum_j (C[k][j] v_j + K[k][j] x_j)) / m_k for each floor k]."""
+    """`[(F_k - sum_j (C[k][j] v_j + K[k][j] x_j)) / m_k for each floor k]`."""
     out = []
     for k in range(n):
         Ck, Kk = C[k], K[k]
@@ -229,7 +229,7 @@ def accelerations(forces, K, C, m, x, v, n):
 
 
 def modal_loads(phi, m, forces, ground, n):
-    """[sum_k phi[k][r] (F_k - m_k a_g) for each mode r]: the modal loads."""
+    """`[sum_k phi[k][r] (F_k - m_k a_g) for each mode r]`: the modal loads."""
     out = []
     for r in range(n):
         total = 0.0
@@ -263,8 +263,8 @@ def piece_bounds(phi, amps, powers, n):
 
 
 def floor_derivatives(row, q, lo, hi):
-    """[sum_r row[r] q[r][j] for j in lo..hi-1]: a floor's derivatives from the modes' (q: per mode
-    its derivatives)."""
+    """`[sum_r row[r] q[r][j] for j in lo..hi-1]`: a floor's derivatives from the modes' (q: per
+    mode its derivatives)."""
     out = []
     for j in range(lo, hi):
         total = 0.0
