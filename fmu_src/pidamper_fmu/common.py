@@ -24,7 +24,7 @@ from xml.etree.ElementTree import Element, SubElement
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.enums import Fmi2Status
 
-from pidamper_physics import BUILD, ParameterError
+from pidamper_physics import BUILD, ParameterError, same_bits
 
 UNITS = {"s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "m": {"m": 1}, "m/s2": {"m": 1, "s": -2}, "kg": {"kg": 1}, "1": {},
          "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "N": {"kg": 1, "m": 1, "s": -2},
@@ -106,11 +106,6 @@ def describe(root, info, outputs):
         SubElement(listed, "Unknown", index=str(index[name]), dependencies=" ".join(str(index[d]) for d in inputs))
         SubElement(initial, "Unknown", index=str(index[name]))
     return root
-
-
-def same_bits(a, b):
-    """True when the floats a and b are equal bit for bit (a zero's sign counts)."""
-    return a == b and (a != 0.0 or math.copysign(1.0, a) == math.copysign(1.0, b))
 
 
 class FmiEntry:

@@ -10,7 +10,9 @@ from .damper import FREE, OUTSIDE, STICK, Damper
 from .impact import collide, impact_loss
 from .oscillator import Oscillator
 from .params import ANGLE, DEFAULTS, DISPLACEMENT, INITIAL_DEFAULTS, ParameterError, Params
+from .stepping import same_bits
 from .validity import DriftMonitor, SmallAngleMonitor, frequency_error
 
 __all__ = ["BUILD", "ANGLE", "DEFAULTS", "DISPLACEMENT", "INITIAL_DEFAULTS", "FREE", "OUTSIDE", "STICK", "Damper", "Oscillator",
-           "ParameterError", "Params", "DriftMonitor", "SmallAngleMonitor", "collide", "frequency_error", "impact_loss"]
+           "ParameterError", "Params", "DriftMonitor", "SmallAngleMonitor", "collide", "frequency_error", "impact_loss",
+           "same_bits"]

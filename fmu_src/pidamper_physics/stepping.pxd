@@ -7,6 +7,9 @@ import cython
 from .events cimport classify, locate, resolution_speed
 
 
+cpdef bint same_bits(double a, double b)
+
+
 cdef class EventDriven:
     cdef dict __dict__  # models keep their own attributes (and tests may replace a method on an instance)
     cdef public object x, v, y, u  # the state a segment-free flight starts from (a model's own: Damper's)

@@ -70,6 +70,12 @@ def unsigned(value):
     return value != 0.0 or math.copysign(1.0, value) > 0.0
 
 
+def same_bits(a, b):
+    """True when the floats a and b are equal bit for bit (a zero's sign counts: a result computed
+    from -0.0 may differ from one computed from +0.0)."""
+    return a == b and (a != 0.0 or math.copysign(1.0, a) == math.copysign(1.0, b))
+
+
 def rest_peaks(peaks, tau, a_g):
     """peaks.Peaks.take() of a piece of tau [s] over which every floor stays at rest relative to
     the ground (displacement, velocity, acceleration and all their derivatives zero, a_g zero): the

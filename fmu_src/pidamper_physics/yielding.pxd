@@ -48,6 +48,9 @@ cdef class YieldingMotion:
     cdef public tuple _regime, _held, _booked, _restored
 
     @cython.locals(booked=tuple)
+    cpdef tuple _booking(self)
+
+    @cython.locals(booked=tuple)
     cpdef list _drifts_now(self)
 
     @cython.locals(booked=tuple, kept=tuple, C=list, n=cython.Py_ssize_t, v=list, r=list, out=list,
@@ -68,4 +71,3 @@ cdef class YieldingMotion:
 @cython.locals(out=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t, a=list, b=list)
 cpdef list _differences(list d, Py_ssize_t first, Py_ssize_t orders)
 
-cpdef bint _same(double a, double b)

@@ -35,7 +35,7 @@ from .peaks import Peaks
 from .refusals import ParameterError, check_finite, check_step
 from .segments import TOLERANCE
 from .shear_motion import ShearMotion, make_building
-from .stepping import MAX_PIECES
+from .stepping import MAX_PIECES, same_bits
 from .storeys import Hysteresis, check_damping, check_storeys
 
 
@@ -53,11 +53,6 @@ def building_motion(masses, stiffnesses, heights, zeta, yield_forces, ratios, p_
         return ShearMotion(building, t0=t0)
     check_damping(law, zeta, building.spread)
     return YieldingMotion(building, law, collapse_drift, t0=t0)
-
-
-def _same(a, b):
-    """a and b are the same float, zeros by their sign too (the loads of -0.0 and +0.0 may differ)."""
-    return a == b and (a != 0.0 or math.copysign(1.0, a) == math.copysign(1.0, b))
 
 
 class YieldingMotion:
@@ -111,13 +106,16 @@ class YieldingMotion:
         x = self.x if x is None else x
         return [x[k] - (x[k - 1] if k else 0.0) for k in range(self.n)]
 
+    def _booking(self):
+        """(x, drifts, energy) as the last piece booked them, if it left the current state; else None."""
+        booked = self._booked
+        return booked if booked is not None and booked[0] is self.x else None
+
     def _drifts_now(self):
         """drifts() of the current state, as the last piece booked them if it left this state (do
         not change the list)."""
-        booked = self._booked
-        if booked is not None and booked[0] is self.x:
-            return booked[1]
-        return self.drifts()
+        booked = self._booking()
+        return self.drifts() if booked is None else booked[1]
 
     def storey_forces(self):
         """The bilinear springs' forces [N] (P-Delta and dashpots not included), storey 1 first."""
@@ -132,8 +130,8 @@ class YieldingMotion:
     def _restoring(self):
         """Per floor the storeys' and dashpots' force on it [N] (kept for the state the last piece
         left: the accelerations and the base shear both ask; do not change the list)."""
-        booked, kept = self._booked, self._restored
-        if booked is not None and booked[0] is self.x and kept is not None and kept[0] is booked:
+        booked, kept = self._booking(), self._restored
+        if booked is not None and kept is not None and kept[0] is booked:
             return kept[1]
         C, n, v = self.b.C, self.n, self.v
         r = self.storeys.restoring(self._drifts_now())
@@ -143,7 +141,7 @@ class YieldingMotion:
             for j in range(n):
                 damping += row[j] * v[j]
             out.append(r[i] + damping)
-        if booked is not None and booked[0] is self.x:
+        if booked is not None:
             self._restored = (booked, out)
         return out
 
@@ -169,8 +167,10 @@ class YieldingMotion:
 
     def energy(self, x=None, v=None):
         """Kinetic and strain energy [J] (relative motion; P-Delta potential included)."""
-        if x is None and v is None and self._booked is not None and self._booked[0] is self.x:
-            return self._booked[2]  # the state the last piece left: its energy is booked
+        if x is None and v is None:
+            booked = self._booking()
+            if booked is not None:  # the state the last piece left: its energy is booked
+                return booked[2]
         x = self.x if x is None else x
         v = self.v if v is None else v
         if self.track is not None:  # elastic: the elastic building's energy
@@ -290,7 +290,7 @@ class YieldingMotion:
         they and the storeys' state stay the same; do not change the list)."""
         version = self.storeys.version
         held = self._held
-        if held[0] == version and _same(held[2], ground) and all(map(_same, held[1], forces)):
+        if held[0] == version and same_bits(held[2], ground) and all(map(same_bits, held[1], forces)):
             return held[3]
         loads = [(f + c) / m - ground for f, c, m in zip(forces, self.storeys.held(), self.b.masses)]
         self._held = (version, list(forces), ground, loads)
@@ -303,9 +303,9 @@ class YieldingMotion:
         self.peaks.take(RegimePiece(motion, n, tau, guards), tau, ground)
         if tau <= 0.0:
             return
-        booked = self._booked
+        booked = self._booking()
         x0 = self.x
-        if booked is not None and booked[0] is x0:  # the state the last piece left, unchanged since
+        if booked is not None:  # the state the last piece left, unchanged since
             d0, e0 = booked[1], booked[2]
         else:
             d0, e0 = self.drifts(), self.energy()
