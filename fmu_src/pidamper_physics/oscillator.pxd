@@ -1,5 +1,6 @@
 # Types for the compiled build of oscillator.py (Cython, pure-Python mode): the undamped closed form
-# (the pendulum's linear level) as a typed class in C doubles.
+# (the pendulum's linear level) as a typed class in C doubles; its methods return C tuples (structs of
+# doubles) to typed callers, Python tuples to Python ones.
 import cython
 from libc cimport math as _libm
 
@@ -10,31 +11,31 @@ cdef class Oscillator:
     cpdef _init(self, double w, double x0, double v0, double c, double a, double om, double psi)
 
     @cython.locals(h=cython.double, sh=cython.double, s=cython.double, omc=cython.double, v0=cython.double)
-    cpdef tuple state(self, double tau)
+    cpdef (double, double, double, double) state(self, double tau)
 
     @cython.locals(xh=cython.double, R=cython.double, xe=cython.double, x0=cython.double,
                    spread=cython.double)
-    cpdef tuple reach(self, double T)
+    cpdef (double, double) reach(self, double T)
 
     @cython.locals(x=cython.double, v=cython.double, sf=cython.double, cf=cython.double, ww=cython.double,
                    a=cython.double)
-    cpdef tuple derivs(self, double tau)
+    cpdef (double, double, double, double, double, double) derivs(self, double tau)
 
     @cython.locals(w=cython.double, hs=cython.double, u=cython.double, ss=cython.double, cs=cython.double,
                    sd=cython.double, cd=cython.double, s=cython.double, co=cython.double, so=cython.double,
                    coo=cython.double, sinc=cython.double, dc=cython.double, ds=cython.double, a=cython.double,
                    sp=cython.double, cp=cython.double, om=cython.double, hw=cython.double, omc=cython.double,
                    v0=cython.double, x=cython.double, v=cython.double)
-    cpdef tuple _forced(self, double tau)
+    cpdef (double, double, double, double) _forced(self, double tau)
 
     @cython.locals(a=cython.double, w=cython.double, om=cython.double, gap=cython.double, xh=cython.double,
                    vh=cython.double)
-    cpdef tuple harmonic_bounds(self, double T)
+    cpdef (double, double) harmonic_bounds(self, double T)
 
     @cython.locals(w=cython.double, ww=cython.double, a=cython.double, R=cython.double, om=cython.double,
                    xh=cython.double, vh=cython.double, p0=cython.double, p1=cython.double, p2=cython.double,
                    p3=cython.double, p4=cython.double, p5=cython.double, p6=cython.double)
-    cpdef tuple bounds(self, double T)
+    cpdef (double, double, double, double, double, double, double) bounds(self, double T)
 
 
 @cython.locals(osc=Oscillator)

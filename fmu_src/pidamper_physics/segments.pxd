@@ -6,7 +6,7 @@ from libc cimport math as _libm
 from .oscillator cimport Oscillator, oscillator
 
 
-cdef double _TOL, _RESOLUTION
+cdef double _TOL, _RESOLUTION, _ABOVE, _UNDERFLOW
 
 cpdef double noise_size(double swing, double reach, double D) except? -1.0
 
@@ -31,7 +31,7 @@ cdef class Flight:
     @cython.locals(a=cython.double, px=Oscillator, py=Oscillator, cx=cython.double, cy=cython.double,
                    D=cython.double, xh=cython.double, x_lo=cython.double, x_hi=cython.double,
                    y_lo=cython.double, y_hi=cython.double, zmax=cython.double, swing=cython.double,
-                   tol=cython.double, n0=cython.double, bx=tuple, by=tuple, bx1=cython.double,
+                   tol=cython.double, n0=cython.double, _=cython.double, bx1=cython.double,
                    bx2=cython.double, bx3=cython.double, bx4=cython.double, by1=cython.double, by2=cython.double,
                    by3=cython.double, by4=cython.double)
     cpdef _init(self, LinearParams p, double x, double v, double y, double u, double fx, double fy, double psi, double T,
@@ -43,14 +43,14 @@ cdef class Flight:
     @cython.locals(w2=cython.double, w1=cython.double, h2=cython.double, h1=cython.double, sh2=cython.double,
                    sh1=cython.double, s2=cython.double, s1=cython.double, o2=cython.double, o1=cython.double,
                    v=cython.double, u=cython.double, a2=cython.double, a1=cython.double)
-    cpdef tuple _inline(self, double tau)
+    cpdef (double, double, double, double) _inline(self, double tau)
 
     @cython.locals(g=cython.double, dg=cython.double)
-    cpdef tuple gap(self, double tau)
+    cpdef (double, double) gap(self, double tau)
 
     @cython.locals(x=cython.double, v=cython.double, x2=cython.double, x3=cython.double, y=cython.double,
                    u=cython.double, y2=cython.double, y3=cython.double, cx=cython.double, cy=cython.double)
-    cpdef tuple gap_derivs(self, double tau)
+    cpdef (double, double, double, double) gap_derivs(self, double tau)
 
     @cython.locals(cx=cython.double, cy=cython.double, D=cython.double, x=cython.double, v=cython.double,
                    y=cython.double, u=cython.double, z=cython.double, dz=cython.double)
@@ -74,7 +74,7 @@ cdef class Stick:
 
     @cython.locals(mu=cython.double, w1=cython.double, w2=cython.double, d=cython.double, ww1=cython.double,
                    big_w=cython.double, a=cython.double, c=cython.double, osc=Oscillator, k=cython.double,
-                   P=tuple, P0=cython.double, P1=cython.double, P2=cython.double, P3=cython.double,
+                   _=cython.double, P0=cython.double, P1=cython.double, P2=cython.double, P3=cython.double,
                    P4=cython.double, aa=cython.double, om=cython.double, tol=cython.double, lo=cython.double,
                    hi=cython.double, size=cython.double, n0=cython.double, floor=cython.double)
     cpdef _init(self, LinearParams p, double x, double v, int sgn, double fx, double fy, double psi, double T)

@@ -31,6 +31,11 @@ TOLERANCE = _ULPS * _EPS  # relative rounding level of a guard at tau = 0
 #: (d = 1e-9 m under swings of 0.7 m is resolved: its rounding level is 1e-14 m)
 GAP_RESOLUTION = 1e3
 _TOL, _RESOLUTION = TOLERANCE, GAP_RESOLUTION  # the same, read by the closed forms (C doubles when compiled)
+#: coast's amplitude bound sqrt(a a + b b) * _ABOVE + _UNDERFLOW is never below hypot(a, b): the root
+#: of the rounded squares is within 1.25 ulp, _ABOVE adds 4, _UNDERFLOW what squares lose below the
+#: normal range (< 3e-162); an overflowed square gives inf (not clear).  In the compiled build C
+#: arithmetic, where CPython's hypot is a Python call
+_ABOVE, _UNDERFLOW = 1.0 + 4.0 * _EPS, 1e-160
 
 
 def noise_size(swing, reach, D):
@@ -58,15 +63,16 @@ class LinearParams:
 
 def coast(p, x, v, y, u, fx, fy, T):
     """(x, v, y, u) after T of free flight without the built-in harmonic when no stop is within
-    reach over [0, T], else None; p = LinearParams(params).  Flight's `clear` test and its positions,
-    in the same operations, without building the segment: the event loop's fast path for the steps
-    that cannot meet a stop."""
+    reach over [0, T], else None; p = LinearParams(params).  A conservative `clear` test (the
+    all-time swing, then the piece's Taylor reach) and Flight's positions in the same operations,
+    without building the segment: the event loop's fast path for the steps that cannot meet a stop."""
     w2, w1 = p.w2, p.w1
     ww2, ww1 = w2 * w2, w1 * w1
     a2, b2 = x - fx / ww2, v / w2
     a1, b1 = y - fy / ww1, u / w1
     D = p.D
-    r2, r1 = _hypot(a2, b2), _hypot(a1, b1)
+    r2 = _libm.sqrt(a2 * a2 + b2 * b2) * _ABOVE + _UNDERFLOW  # >= hypot(a2, b2)
+    r1 = _libm.sqrt(a1 * a1 + b1 * b1) * _ABOVE + _UNDERFLOW
     swing = p.cx * (abs(x - a2) + r2) + p.cy * (abs(y - a1) + r1)
     growth = 1.0 + max(w1, w2, p.Omega_acting) * T
     if not swing < D - _TOL * (D + swing) * growth:  # the all-time swing may reach a stop: try the piece's reach
@@ -108,7 +114,8 @@ class Flight:
         self.w2, self.x0, self.v0, self.a2, self.b2 = px.w, x, v, px.A, px.B
         self.w1, self.y0, self.u0, self.a1, self.b1 = py.w, y, u, py.A, py.B
         xh, _ = px.harmonic_bounds(T)
-        (x_lo, x_hi), (y_lo, y_hi) = px.reach(T), py.reach(T)
+        x_lo, x_hi = px.reach(T)
+        y_lo, y_hi = py.reach(T)
         zmax = cx * max(-x_lo, x_hi) + cy * max(-y_lo, y_hi)
         swing = cx * (abs(px.xe) + px.R + xh) + cy * (abs(py.xe) + py.R)
         tol = _TOL
@@ -118,9 +125,8 @@ class Flight:
         if self.clear and not always_bound:  # no stop within reach: bounds and noise are not needed
             self.bounds = self.noise = None
             return
-        bx, by = px.bounds(T), py.bounds(T)
-        bx1, bx2, bx3, bx4 = bx[1], bx[2], bx[3], bx[4]
-        by1, by2, by3, by4 = by[1], by[2], by[3], by[4]
+        _, bx1, bx2, bx3, bx4, _, _ = px.bounds(T)
+        _, by1, by2, by3, by4, _, _ = py.bounds(T)
         self.bounds = (cx * bx2 + cy * by2, cx * bx3 + cy * by3, cx * bx4 + cy * by4)
         self.noise = (n0, tol * (cx * bx1 + cy * by1),
                       tol * (cx * (bx2 + px.ww * abs(px.xe)) + cy * (by2 + py.ww * abs(py.xe))),
@@ -233,8 +239,7 @@ class Stick:
         # (written with c, not with the equilibrium c / W^2, so a held load that dwarfs the
         # restoring force does not cancel)
         self.base = c - ww1 * sgn * d - fy
-        P = osc.bounds(T)
-        P0, P1, P2, P3, P4 = P[0], P[1], P[2], P[3], P[4]
+        P0, P1, P2, P3, P4, _, _ = osc.bounds(T)
         aa, om = abs(a), p.Omega
         self.bounds = (abs(k) * P2 + aa * om ** 2, abs(k) * P3 + aa * om ** 3, abs(k) * P4 + aa * om ** 4)
         tol = _TOL
