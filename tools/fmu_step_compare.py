@@ -10,8 +10,9 @@ fmi2DoStep of 0.01 s then every output and local variable read:
   acceleration (fixed seed) before each step, or leaves every input at zero with --rest, and reads
   the Real outputs and locals in one fmi2GetReal;
 - native: the C host of pidamper.benchmarks (benchmarks/native/every_output_host.c, compiled here)
-  sets no input (every input zero: a building at rest) and reads every output and local with its
-  own fmi2GetReal / fmi2GetInteger call; its figure is the CPU time of its step loop.
+  sets a_g = 3 sin(6 t) m/s2 before each step, or no input with --rest (every input zero: a building
+  at rest), and reads every output and local with its own fmi2GetReal / fmi2GetInteger call; its
+  figure is the CPU time of its step loop.
 The two builds' runs alternate in fresh processes; each figure is the median process CPU time per
 step of `--runs` runs.
 """
@@ -78,6 +79,8 @@ class NativeHost:
         self.unzipped = {}
 
     def run(self, fmu, steps, rest=True):
+        """rest: no input set; else the ground acceleration a_g = 3 sin(6 t) m/s2 set before each step
+        (tools/speed_compare.py's building input)."""
         import fmpy
 
         if fmu not in self.unzipped:
@@ -85,10 +88,13 @@ class NativeHost:
             where = fmpy.extract(str(fmu), unzipdir=str(self.tmp / f"x{len(self.unzipped)}"))
             reads = [f"{v.type[0]}:{v.valueReference}" for v in md.modelVariables
                      if v.causality in ("output", "local")]
-            self.unzipped[fmu] = [where, md.coSimulation.modelIdentifier, md.guid] + [str(steps), "0.01"] + reads
+            a_g = [v.valueReference for v in md.modelVariables if v.name == "a_g"]
+            self.unzipped[fmu] = ([where, md.coSimulation.modelIdentifier, md.guid, str(steps), "0.01"] + reads,
+                                  [f"U:{vr}:3:6" for vr in a_g])
+        args, drive = self.unzipped[fmu]
         env = {"PATH": "/usr/local/bin:/usr/bin:/bin", "HOME": os.environ.get("HOME", "/tmp"), "LANG": "C.UTF-8"}
-        done = subprocess.run([str(self.exe)] + self.unzipped[fmu], capture_output=True, text=True, env=env,
-                              check=True, timeout=1800)
+        done = subprocess.run([str(self.exe)] + args + ([] if rest else drive), capture_output=True, text=True,
+                              env=env, check=True, timeout=1800)
         return float(done.stdout.split()[0])
 
 
@@ -112,11 +118,11 @@ def main(argv=None):
     parser.add_argument("--base", required=True)
     parser.add_argument("--model", nargs="+", default=["ShearBuilding3"])
     parser.add_argument("--host", choices=("fmpy", "native"), default="fmpy")
-    parser.add_argument("--rest", action="store_true", help="fmpy: every input zero (the native host sets none)")
+    parser.add_argument("--rest", action="store_true", help="every input zero (the native host sets none)")
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--steps", type=int, default=20000)
     args = parser.parse_args(argv)
-    rest = args.rest or args.host == "native"
+    rest = args.rest
     with tempfile.TemporaryDirectory() as tmp:
         base = Path(tmp) / "base"
         subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(base), args.base], check=True)
@@ -125,8 +131,8 @@ def main(argv=None):
             rows = compare(olds, news, args.model, args.host, rest, args.runs, args.steps)
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=True)
-    what = ("the native C host, no input set (at rest), every output and local read one call each"
-            if args.host == "native" else
+    what = ("the native C host, " + ("no input set (at rest)" if rest else "a_g = 3 sin(6 t)") +
+            ", every output and local read one call each" if args.host == "native" else
             "fmpy FMU2Slave, " + ("every input zero (at rest)" if rest else "a_g random") +
             ", every Real output and local read each step")
     print(f"Machine: {describe('fmpy')}; {what}; {args.steps} steps of 0.01 s, median of {args.runs} interleaved "

@@ -72,5 +72,5 @@ def build_every_output_host(out_dir):
     """The native host of native/every_output_host.c, compiled into out_dir."""
     exe = Path(out_dir) / "every_output_host"
     subprocess.run([compiler(), "-O2", "-I", str(fmi_headers()), "-o", str(exe), str(NATIVE / "every_output_host.c"),
-                    "-ldl"], check=True, capture_output=True)
+                    "-ldl", "-lm"], check=True, capture_output=True)
     return exe

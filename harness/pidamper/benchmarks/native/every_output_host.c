@@ -2,9 +2,12 @@
  * steps it and reads every output at every step, one fmi2GetReal / fmi2GetInteger call per
  * variable.  Prints the process CPU time per step [us].
  *
- *   every_output_host <unzipped FMU> <model identifier> <GUID> <steps> <h> <R|I>:<vr> ...
+ *   every_output_host <unzipped FMU> <model identifier> <GUID> <steps> <h> <R|I>:<vr> ... [U:<vr>:<A>:<w>]
+ *
+ * U: before each step the Real input vr is set to A sin(w t) at the step's start t (none: no input set).
  */
 #include <dlfcn.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,13 +37,24 @@ int main(int argc, char **argv) {
     void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
     if (!lib) { fprintf(stderr, "dlopen: %s\n", dlerror()); return 2; }
     LOAD(fmi2Instantiate) LOAD(fmi2SetupExperiment) LOAD(fmi2EnterInitializationMode)
-    LOAD(fmi2ExitInitializationMode) LOAD(fmi2GetReal) LOAD(fmi2GetInteger) LOAD(fmi2DoStep)
+    LOAD(fmi2ExitInitializationMode) LOAD(fmi2GetReal) LOAD(fmi2GetInteger) LOAD(fmi2SetReal) LOAD(fmi2DoStep)
     LOAD(fmi2Terminate) LOAD(fmi2FreeInstance)
     int steps = atoi(argv[4]), n = argc - 6;
     double h = strtod(argv[5], NULL);
     char *types = malloc(n);
     fmi2ValueReference *vrs = malloc(n * sizeof *vrs);
     for (int k = 0; k < n; k++) { types[k] = argv[6 + k][0]; vrs[k] = (fmi2ValueReference)atoi(argv[6 + k] + 2); }
+    int driven = n > 0 && types[n - 1] == 'U';  /* the last token: the input and its harmonic */
+    fmi2ValueReference input = 0;
+    double amplitude = 0.0, omega = 0.0;
+    if (driven) {
+        unsigned vr;
+        if (sscanf(argv[5 + n] + 2, "%u:%lf:%lf", &vr, &amplitude, &omega) != 3) {
+            fprintf(stderr, "bad input token %s (U:<vr>:<A>:<w>)\n", argv[5 + n]); return 2;
+        }
+        input = (fmi2ValueReference)vr;
+        n -= 1;
+    }
     fmi2CallbackFunctions callbacks = {logger, calloc, free, NULL, NULL};
     fmi2Component c = fmi2Instantiate("host", fmi2CoSimulation, argv[3], resources, &callbacks, fmi2False, fmi2False);
     if (!c) { fprintf(stderr, "fmi2Instantiate failed\n"); return 3; }
@@ -50,6 +64,8 @@ int main(int argc, char **argv) {
     fmi2Integer i;
     clock_t t0 = clock();
     for (int s = 0; s < steps; s++) {
+        double a = amplitude * sin(omega * (s * h));
+        if (driven && fmi2SetReal(c, &input, 1, &a) != fmi2OK) { fprintf(stderr, "set input failed\n"); return 5; }
         if (fmi2DoStep(c, s * h, h, fmi2True) != fmi2OK) { fprintf(stderr, "doStep failed\n"); return 5; }
         for (int k = 0; k < n; k++) {
             fmi2Status st = types[k] == 'R' ? fmi2GetReal(c, &vrs[k], 1, &r) : fmi2GetInteger(c, &vrs[k], 1, &i);
