@@ -31,8 +31,9 @@ from pathlib import Path
 
 from .locations import PHYSICS, sources
 
-#: modules that stay Python: the package's entry and the build selector itself
-PLAIN = ("__init__", "_build")
+#: modules that stay Python: the package's entry, the build selector itself and the plain bodies of
+#: the shared C helpers (their .pxd is cimported by the compiled modules: _build.SHARED_TYPING)
+PLAIN = ("__init__", "_build", "_ccomplex")
 #: C flags: optimised, and floating point exactly as the plain build computes it; Cython's own complex
 #: type, not C99's (whose x + y*I loses a real part of -0.0; Cython's is CPython's arithmetic, mixed
 #: real and complex operands included), its abs() by hypot as CPython's (HAVE_HYPOT: without it
@@ -111,9 +112,8 @@ def compile_package(folder, package, quiet=True):
     select = selector(folder)
     lines = []
     for name in names:
-        pxd = folder / f"{name}.pxd"
-        lines.append(f"{name} {select.digest(folder / f'{name}.py')} "
-                     f"{select.digest(pxd) if pxd.is_file() else '-'} {extension_name(name)}\n")
+        lines.append(f"{name} {select.digest(folder / f'{name}.py')} {select.typing(folder, name)} "
+                     f"{extension_name(name)}\n")
     (folder / select.COMPILED).write_text("".join(lines))
     return [folder / extension_name(name) for name in names]
 

@@ -17,6 +17,8 @@ import sys
 
 #: the manifest's file name, beside the sources
 COMPILED = "_compiled.txt"
+#: typing files any compiled module may cimport (C bodies of plain-Python helpers, never compiled)
+SHARED_TYPING = ("_ccomplex.pxd",)
 
 
 def digest(path):
@@ -25,8 +27,18 @@ def digest(path):
         return hashlib.sha256(handle.read()).hexdigest()
 
 
+def typing(folder, name):
+    """Digest of what types module `name` in folder: its .pxd with the shared typing files, or '-'
+    without a .pxd."""
+    pxd = os.path.join(folder, name + ".pxd")
+    if not os.path.isfile(pxd):
+        return "-"
+    parts = [digest(pxd)] + [digest(os.path.join(folder, shared)) for shared in SHARED_TYPING]
+    return hashlib.sha256(" ".join(parts).encode()).hexdigest()
+
+
 def manifest(folder):
-    """{module: [digest of its .py, of its .pxd or '-', its extension's file name]} of the compile
+    """{module: [digest of its .py, typing() of it, its extension's file name]} of the compile
     step's manifest in folder (empty without one)."""
     path = os.path.join(folder, COMPILED)
     if not os.path.isfile(path):
@@ -44,11 +56,11 @@ def _stale(folder, rows):
     """Why the manifest does not describe these sources and this Python, or None."""
     suffix = machinery.EXTENSION_SUFFIXES[0]
     for name, (source, typed, extension) in sorted(rows.items()):
-        pxd = os.path.join(folder, name + ".pxd")
         if digest(os.path.join(folder, name + ".py")) != source:
             return f"{name}.py changed since it was compiled (run python -m build_fmu.compile)"
-        if (digest(pxd) if os.path.isfile(pxd) else "-") != typed:
-            return f"{name}.pxd changed since it was compiled (run python -m build_fmu.compile)"
+        if typing(folder, name) != typed:
+            return (f"{name}.pxd or the shared {', '.join(SHARED_TYPING)} changed since it was compiled "
+                    "(run python -m build_fmu.compile)")
         if not extension.endswith(suffix) or not os.path.isfile(os.path.join(folder, extension)):
             return f"no extension {name}{suffix} for this Python"
     return None

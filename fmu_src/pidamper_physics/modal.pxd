@@ -1,8 +1,21 @@
 # Types for the compiled build of modal.py (Cython, pure-Python mode): the per-mode loops of the
 # closed form in C doubles and complex doubles.  Only +, -, * and .real on complex values are typed
 # (they are CPython's operations to the bit: no contraction, -ffp-contract=off); divisions go
-# through _quot, CPython's algorithm written out, and exp through cmath as in the plain build.
+# through _quot, CPython's algorithm written out, exp through _exp, cmath's formula written out with
+# libc's exp, sin and cos, and complex(re, im) through _ccomplex.parts.
 import cython
+from libc cimport math as _libm
+
+from . cimport _ccomplex as _cx
+
+cdef double _INF
+
+@cython.locals(a=cython.double, b=cython.double, el=cython.double)
+cpdef double complex _exp(double complex z) except *
+
+@cython.locals(a=cython.double, b=cython.double, e=cython.doublecomplex, ea=cython.double, h=cython.double,
+               omc=cython.double, em=cython.doublecomplex)
+cpdef tuple exp_pair(double complex z)
 
 @cython.locals(k=cython.Py_ssize_t, z=cython.doublecomplex, a=cython.double, b=cython.double,
                el=cython.doublecomplex, em=cython.doublecomplex, ea=cython.double, h=cython.double,
@@ -22,7 +35,7 @@ cpdef double _real_dot(list row, list eta) except? -1.0
 @cython.locals(k=cython.Py_ssize_t, s=cython.double, x=cython.double, y=cython.double)
 cpdef double _dot_real(list a, list b) except? -1.0
 
-@cython.locals(i=cython.Py_ssize_t, s=cython.doublecomplex)
+@cython.locals(i=cython.Py_ssize_t, s=cython.doublecomplex, wi=cython.doublecomplex, xi=cython.double)
 cpdef double complex _dot(list w, x, Py_ssize_t offset, Py_ssize_t n) except *
 
 @cython.locals(ar=cython.double, ai=cython.double, br=cython.double, bi=cython.double, ratio=cython.double,

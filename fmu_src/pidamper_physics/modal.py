@@ -21,7 +21,10 @@ Plain Python (math, cmath): this runs inside the FMU.
 """
 import cmath
 import math
+import math as _libm  # exp, expm1, sin, cos: in the compiled build libc's (modal.pxd), the very functions
+# CPython's math and cmath call
 
+from . import _ccomplex as _cx  # complex(re, im): a C complex in the compiled build
 from . import eigen
 
 #: |lam| / the fastest |lam| below which a mode is secular (a storey of zero tangent): its held
@@ -29,6 +32,7 @@ from . import eigen
 SECULAR = 1e-6
 _BOUND_ORDERS = 6  # Motion.bounds tabulates the modes to this order at least (the guards' highest)
 _SERIES = 0.25  # |w| below which phi1 is summed as a series (14 terms: below 1e-17)
+_INF = math.inf
 
 
 def phi1(w):
@@ -42,17 +46,28 @@ def phi1(w):
     return total
 
 
+def _exp(z):
+    """cmath.exp(z): for finite z with |Re z| <= 700 (no overflow) its formula, exp(Re z) (cos Im z,
+    sin Im z), written out with libm's functions as cmath calls them (the same bits; in the compiled
+    build a C computation); cmath itself elsewhere (its special values and its OverflowError)."""
+    a, b = z.real, z.imag
+    if -700.0 <= a <= 700.0 and -_INF < b < _INF:
+        el = _libm.exp(a)
+        return _cx.parts(el * _libm.cos(b), el * _libm.sin(b))
+    return cmath.exp(z)
+
+
 def exp_pair(z):
     """(exp(z), exp(z) - 1) for complex z, both to full relative precision (cmath has no expm1):
     near 0 the difference is summed from expm1 and the half-angle sine, elsewhere it does not cancel."""
     a, b = z.real, z.imag
     if a * a + b * b > 0.25:
-        e = cmath.exp(z)
+        e = _exp(z)
         return e, e - 1.0
-    ea = math.expm1(a)
-    h = math.sin(0.5 * b)
+    ea = _libm.expm1(a)
+    h = _libm.sin(0.5 * b)
     omc = 2.0 * h * h  # 1 - cos(b)
-    em = complex(ea - ea * omc - omc, (1.0 + ea) * 2.0 * h * math.cos(0.5 * b))
+    em = _cx.parts(ea - ea * omc - omc, (1.0 + ea) * 2.0 * h * _libm.cos(0.5 * b))
     return em + 1.0, em
 
 
@@ -243,7 +258,7 @@ class Motion:
         forced = self.forced
         if forced:
             sp = 1j * self.om
-            e_plus, e_minus = cmath.exp(sp * tau), cmath.exp(-sp * tau)
+            e_plus, e_minus = _exp(sp * tau), _exp(-sp * tau)
         out = _free(lams, eta0, self.steady, tau)
         if forced:
             for k in range(len(lams)):
@@ -409,13 +424,13 @@ def _free(lams, eta0, shift, tau):
         a = z.real
         b = z.imag
         if a * a + b * b > 0.25:
-            el = cmath.exp(z)
+            el = _exp(z)
             em = el - 1.0
         else:
-            ea = math.expm1(a)
-            h = math.sin(0.5 * b)
+            ea = _libm.expm1(a)
+            h = _libm.sin(0.5 * b)
             omc = 2.0 * h * h  # 1 - cos(b)
-            em = complex(ea - ea * omc - omc, (1.0 + ea) * 2.0 * h * math.cos(0.5 * b))
+            em = _cx.parts(ea - ea * omc - omc, (1.0 + ea) * 2.0 * h * _libm.cos(0.5 * b))
             el = em + 1.0
         e0 = eta0[k]
         c = shift[k]
@@ -473,7 +488,9 @@ def _dot(w, x, offset, n):
     """sum_i w[offset + i] x[i], i < n (complex w, real x), added left to right from 0."""
     s = 0j
     for i in range(n):
-        s += w[offset + i] * x[i]
+        wi = w[offset + i]
+        xi = x[i]
+        s += wi * xi
     return s
 
 
@@ -484,7 +501,7 @@ def _quot(a, b):
     if abs(br) >= abs(bi):
         ratio = bi / br
         denom = br + bi * ratio
-        return complex((ar + ai * ratio) / denom, (ai - ar * ratio) / denom)
+        return _cx.parts((ar + ai * ratio) / denom, (ai - ar * ratio) / denom)
     ratio = br / bi
     denom = br * ratio + bi
-    return complex((ar * ratio + ai) / denom, (ai * ratio - ar) / denom)
+    return _cx.parts((ar * ratio + ai) / denom, (ai * ratio - ar) / denom)

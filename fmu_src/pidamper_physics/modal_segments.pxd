@@ -14,7 +14,10 @@ cdef class ModalFlight:
 
     @cython.locals(rx=cython.double, ry=cython.double, x=cython.double, y=cython.double, v=cython.double,
                    u=cython.double, Bx=list, By=list, Bv=list, Bu=list, zmax=cython.double, size=cython.double,
-                   n0=cython.double)
+                   n0=cython.double, tol=cython.double, x0=cython.double, x1=cython.double, x2=cython.double,
+                   x3=cython.double, x4=cython.double, y0=cython.double, y1=cython.double, y2=cython.double,
+                   y3=cython.double, y4=cython.double, v0=cython.double, v1=cython.double, v2=cython.double,
+                   u0=cython.double, u1=cython.double, u2=cython.double)
     cpdef _guard(self, list B, list rest, list start, double T, double D)
 
     @cython.locals(x=cython.double, y=cython.double, v=cython.double, u=cython.double)

@@ -46,18 +46,20 @@ class ModalFlight:
         rx, ry = rest[0], rest[1]
         x, y, v, u = start[0], start[1], start[2], start[3]
         Bx, By, Bv, Bu = B[0], B[1], B[2], B[3]
+        x0, x1, x2, x3, x4 = Bx[0], Bx[1], Bx[2], Bx[3], Bx[4]  # the bounds of |x - rest|, |x'|, ..., |x^(4)|
+        y0, y1, y2, y3, y4 = By[0], By[1], By[2], By[3], By[4]
+        v0, v1, v2, u0, u1, u2 = Bv[0], Bv[1], Bv[2], Bu[0], Bu[1], Bu[2]
         # |x - y| and |x| + |y| over [0, T]: the tighter of the swing about the equilibrium and
         # the start's Taylor bound (a held load that dwarfs the restoring force puts the
         # equilibrium far beyond the motion)
-        zmax = min(abs(rx - ry) + Bx[0] + By[0],
-                   abs(x - y) + T * min(Bx[1] + By[1], abs(v - u) + T * (Bx[2] + By[2])))
-        size = noise_size(abs(rx) + abs(ry) + Bx[0] + By[0],
-                          abs(x) + abs(y) + T * min(Bx[1] + By[1], abs(v) + abs(u) + T * (Bx[2] + By[2])), D)
-        n0 = TOLERANCE * (D + size)
+        zmax = min(abs(rx - ry) + x0 + y0, abs(x - y) + T * min(x1 + y1, abs(v - u) + T * (x2 + y2)))
+        size = noise_size(abs(rx) + abs(ry) + x0 + y0,
+                          abs(x) + abs(y) + T * min(x1 + y1, abs(v) + abs(u) + T * (x2 + y2)), D)
+        tol = TOLERANCE
+        n0 = tol * (D + size)
         self.clear = zmax < D - n0 * (1.0 + self.growth * T)
-        self.bounds = (Bx[2] + By[2], Bx[3] + By[3], Bx[4] + By[4])
-        self.noise = (n0, TOLERANCE * (Bx[1] + By[1] + Bv[0] + Bu[0]), TOLERANCE * (Bx[2] + By[2] + Bv[1] + Bu[1]),
-                      TOLERANCE * (Bx[3] + By[3] + Bv[2] + Bu[2]))
+        self.bounds = (x2 + y2, x3 + y3, x4 + y4)
+        self.noise = (n0, tol * (x1 + y1 + v0 + u0), tol * (x2 + y2 + v1 + u1), tol * (x3 + y3 + v2 + u2))
 
     def positions(self, tau):
         x, y, v, u = self.motion.state(tau)

@@ -20,7 +20,8 @@ cdef class StoreyGuards:
     @cython.locals(b2=cython.double, b3=cython.double, b4=cython.double, n0=cython.double, n1=cython.double,
                    n2=cython.double, n3=cython.double, kept=list, i=cython.Py_ssize_t, order=cython.Py_ssize_t,
                    coef=cython.double, offset=cython.double, c=cython.double, di=list, bi=list, own=cython.double,
-                   least=cython.double)
+                   least=cython.double, d0=cython.double, d1=cython.double, d2=cython.double, e1=cython.double,
+                   e2=cython.double, e3=cython.double, e4=cython.double, tol=cython.double)
     cpdef _keep(self, guards, list bd, list start, double T, double growth)
 
     @cython.locals(lo=cython.Py_ssize_t)

@@ -426,29 +426,31 @@ class StoreyGuards:
         """Keep the guards that may reach zero on [0, T] (bd: per storey the bounds of its drift's
         derivatives, start: its derivatives at 0) and set the protocol's bounds, noise, clear."""
         b2 = b3 = b4 = n0 = n1 = n2 = n3 = 0.0
+        tol = TOLERANCE
         kept = []
         for guard in guards:
             i, order, coef, offset, _ = guard
             c, di, bi = abs(coef), start[i], bd[i]
-            own = TOLERANCE * (abs(offset) + c * (abs(di[order]) + T * bi[order + 1]))  # its rounding level
-            least = offset + coef * di[order] - T * min(c * bi[order + 1],
-                                                       abs(coef * di[order + 1]) + T * c * bi[order + 2])
+            d0, d1, d2 = di[order], di[order + 1], di[order + 2]  # the drift's derivatives at 0 ...
+            e1, e2, e3, e4 = bi[order + 1], bi[order + 2], bi[order + 3], bi[order + 4]  # ... and their bounds
+            own = tol * (abs(offset) + c * (abs(d0) + T * e1))  # its rounding level
+            least = offset + coef * d0 - T * min(c * e1, abs(coef * d1) + T * c * e2)
             if least > own * (1.0 + growth * T):
                 continue  # cannot reach zero on [0, T]
             kept.append(guard)
-            b2 = max(b2, c * bi[order + 2])
-            b3 = max(b3, c * bi[order + 3])
-            b4 = max(b4, c * bi[order + 4])
+            b2 = max(b2, c * e2)
+            b3 = max(b3, c * e3)
+            b4 = max(b4, c * e4)
             n0 = max(n0, own)
-            n1 = max(n1, c * (bi[order + 1] + abs(di[order + 1])))
-            n2 = max(n2, c * (bi[order + 2] + abs(di[order + 2])))
-            n3 = max(n3, c * bi[order + 3])
+            n1 = max(n1, c * (e1 + abs(d1)))
+            n2 = max(n2, c * (e2 + abs(d2)))
+            n3 = max(n3, c * e3)
         self.guards = kept
         # the storeys the kept guards watch lie in [first, last): values() computes only their drifts
         self.first = min([guard[0] for guard in kept]) if kept else 0
         self.last = max([guard[0] for guard in kept]) + 1 if kept else 0
         self.bounds = (b2, b3, b4)
-        self.noise = (n0, TOLERANCE * n1, TOLERANCE * n2, TOLERANCE * n3)
+        self.noise = (n0, tol * n1, tol * n2, tol * n3)
         self.growth = growth if kept else 0.0
         self.clear = not kept
 
