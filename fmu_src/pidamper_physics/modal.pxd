@@ -86,7 +86,7 @@ cdef class Motion:
     cpdef tuple load(self, double tau)
 
     @cython.locals(m=Modes, j=cython.Py_ssize_t, columns=list)
-    cpdef list bounds(self, double T, Py_ssize_t orders=*, rows=*, vectors=*, weighted=*)
+    cpdef list bounds(self, double T, Py_ssize_t orders=*, rows=*, vectors=*, weighted=*, Py_ssize_t first=*)
 
     @cython.locals(m=Modes)
     cpdef list rest(self, rows=*, vectors=*)

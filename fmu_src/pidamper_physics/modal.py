@@ -343,9 +343,10 @@ class Motion:
         a = self.om * tau + self.psi
         return math.sin(a), math.cos(a)
 
-    def bounds(self, T, orders=5, rows=None, vectors=None, weighted=None):
+    def bounds(self, T, orders=5, rows=None, vectors=None, weighted=None, first=0):
         """Per component of z: bounds of |z_c - rest_c| and of |d^j z_c / dtau^j|, j = 1..orders-1,
-        over 0 <= tau <= T (Re lam <= 0 makes |exp(lam tau)| <= 1).  Only the components `rows`
+        over 0 <= tau <= T (Re lam <= 0 makes |exp(lam tau)| <= 1); only those of the orders
+        first..orders-1 if `first` is given.  Only the components `rows`
         (indices), if given; or of the linear functions c . z whose modal rows (c V) are `vectors`,
         or whose rows weight_k |(c V)_k| are `weighted` (Modes.weighted, weighted_difference).  (The
         compiled build calls it in C when the motion is typed: pass these by position.)"""
@@ -360,7 +361,7 @@ class Motion:
             weighted = [m.weighted(i) for i in (range(2 * m.n) if rows is None else rows)]
         elif weighted is None:  # (weight |V|) first, as the sum always did
             weighted = [[w * abs(v) for w, v in zip(m.weight, vrow)] for vrow in vectors]
-        return [[_dot_real(scaled, columns[j]) for j in range(orders)] for scaled in weighted]
+        return [[_dot_real(scaled, columns[j]) for j in range(first, orders)] for scaled in weighted]
 
     def _columns_over(self, T, orders):
         """Per order j < orders, per kept mode: the bound of |eta_k^(j)| (j = 0: of its swing about

@@ -204,12 +204,12 @@ class ModalPiece:
         return chain(seg.z0, self.n, seg.K, seg.C, seg.b, self.j, self.a, seg.om, s, c)
 
     def bounds(self):
-        """(per floor the bounds of x and its derivatives up to x^(5), per storey the bound of its
-        drift's third derivative) over the piece."""
+        """(per floor the bounds of |x^(4)| and |x^(5)|, per storey the bound of its drift's third
+        derivative) over the piece."""
         motion, floors = self.seg.motion, self.floors
-        modes = motion.modes
-        drifts = modes.weighted_drifts(floors)
-        return motion.bounds(self.tau, 6, range(floors)), [b[3] for b in motion.bounds(self.tau, 4, None, None, drifts)]
+        drifts = motion.modes.weighted_drifts(floors)
+        return (motion.bounds(self.tau, 6, range(floors), None, None, 4),
+                [b[0] for b in motion.bounds(self.tau, 4, None, None, drifts, 3)])
 
     def derivatives(self, s, floors):
         """{floor: [x^(lo), ..., x^(hi-1)]} at s of the floors asked for ({floor: (lo, hi)}, hi <= 5)."""

@@ -20,7 +20,9 @@ cdef class Peaks:
     cdef public double v_ground
 
     @cython.locals(n=cython.Py_ssize_t, k=cython.Py_ssize_t, i=cython.Py_ssize_t, ih=list, vg=cython.double,
-                   h=cython.double, active=list, values=list, q=tuple, y=tuple)
+                   h=cython.double, active=list, values=list, q=tuple, y=tuple, xk=cython.double, vk=cython.double,
+                   ak=cython.double, jk=cython.double, sk=cython.double, xb=cython.double, vb=cython.double,
+                   ab=cython.double, bound=cython.double)
     cpdef take(self, piece, double tau, double a_g)
 
     @cython.locals(top=list, old=cython.double)
@@ -31,7 +33,9 @@ cdef class Peaks:
 
     @cython.locals(need=dict, ih=list, vg=cython.double, out=list, q=tuple, kind=cython.Py_ssize_t,
                    k=cython.Py_ssize_t, lo=cython.Py_ssize_t, ll=cython.Py_ssize_t, hi=cython.Py_ssize_t,
-                   h=cython.double, f=cython.double, f1=cython.double, f2=cython.double, dk=list, dl=list)
+                   h=cython.double, f=cython.double, f1=cython.double, f2=cython.double, dk=list, dl=list,
+                   u0=cython.double, u1=cython.double, u2=cython.double, u3=cython.double, u4=cython.double,
+                   l0=cython.double, l1=cython.double, l2=cython.double)
     cpdef list _values(self, piece, double s, double a_g, list active, dict need)
 
     cpdef dict _need(self, list active)

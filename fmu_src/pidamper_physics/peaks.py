@@ -93,8 +93,8 @@ class Peaks:
         """Raise the maxima over a piece of length tau >= 0 [s] under the held ground acceleration
         a_g [m/s2], then move the ground's velocity on.  `piece` gives, relative to the ground,
         start() -> (x, v, acc, jerk, snap) of the floors at its start (floor 1 first; extra entries
-        ignored), bounds() -> (per floor the bounds of |x_k - rest_k|, |x_k'|, ..., |x_k^(5)| over
-        the piece, per storey the bound of the third derivative of its drift x_k - x_(k-1)), and
+        ignored), bounds() -> (per floor the bounds of |x_k^(4)| and |x_k^(5)| over the piece, per
+        storey the bound of the third derivative of its drift x_k - x_(k-1)), and
         derivatives(s, {k: (lo, hi)}) -> {k: [x_k^(lo), ..., x_k^(hi-1)]} at s.  A quantity that the forward cubic from the start clears over the whole
         piece is not searched."""
         n, ih = self.n, self.inv_h
@@ -102,19 +102,22 @@ class Peaks:
         x, v, acc, jerk, snap = piece.start()
         b, drift = piece.bounds()
         active, values = [], []
+        xb = vb = ab = 0.0  # the floor below's (the ground's: unused)
         for k in range(n):
             bk = b[k]
             h = ih[k]
-            active.append((0, k, drift[k] * h))
+            xk, vk, ak, jk, sk = x[k], v[k], acc[k], jerk[k], snap[k]
+            bound = drift[k]
+            active.append((0, k, bound * h))
             if k:
-                i = k - 1
-                values.append(((x[k] - x[i]) * h, (v[k] - v[i]) * h, (acc[k] - acc[i]) * h))
+                values.append(((xk - xb) * h, (vk - vb) * h, (ak - ab) * h))
             else:
-                values.append((x[0] * h, v[0] * h, acc[0] * h))
-            active.append((1, k, bk[4]))  # the third derivative of v is x^(4), of a is x^(5)
-            values.append((v[k] + vg, acc[k] + a_g, jerk[k]))
-            active.append((2, k, bk[5]))
-            values.append((acc[k] + a_g, jerk[k], snap[k]))
+                values.append((xk * h, vk * h, ak * h))
+            active.append((1, k, bk[0]))  # the third derivative of v is x^(4), of a is x^(5)
+            values.append((vk + vg, ak + a_g, jk))
+            active.append((2, k, bk[1]))
+            values.append((ak + a_g, jk, sk))
+            xb, vb, ab = xk, vk, ak
         for i in range(len(active)):
             q, y = active[i], values[i]
             self._raise(q[0], q[1], y[0])
@@ -155,17 +158,19 @@ class Peaks:
             dk = d[k]
             if kind == 0:
                 h = ih[k]
+                u0, u1, u2 = dk[0 - lo], dk[1 - lo], dk[2 - lo]
                 if k:
                     dl, ll = d[k - 1], need[k - 1][0]
-                    f = (dk[0 - lo] - dl[0 - ll]) * h
-                    f1 = (dk[1 - lo] - dl[1 - ll]) * h
-                    f2 = (dk[2 - lo] - dl[2 - ll]) * h
+                    l0, l1, l2 = dl[0 - ll], dl[1 - ll], dl[2 - ll]
+                    f, f1, f2 = (u0 - l0) * h, (u1 - l1) * h, (u2 - l2) * h
                 else:
-                    f, f1, f2 = dk[0 - lo] * h, dk[1 - lo] * h, dk[2 - lo] * h
+                    f, f1, f2 = u0 * h, u1 * h, u2 * h
             elif kind == 1:
-                f, f1, f2 = dk[1 - lo] + vg, dk[2 - lo] + a_g, dk[3 - lo]
+                u1, u2, u3 = dk[1 - lo], dk[2 - lo], dk[3 - lo]
+                f, f1, f2 = u1 + vg, u2 + a_g, u3
             else:
-                f, f1, f2 = dk[2 - lo] + a_g, dk[3 - lo], dk[4 - lo]
+                u2, u3, u4 = dk[2 - lo], dk[3 - lo], dk[4 - lo]
+                f, f1, f2 = u2 + a_g, u3, u4
             self._raise(kind, k, f)
             out.append((f, f1, f2))
         return out

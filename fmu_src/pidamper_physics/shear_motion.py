@@ -247,7 +247,7 @@ def piece_bounds(phi, amps, powers, n):
     for k in range(n):
         row = phi[k]
         bounds = []
-        for j in range(6):
+        for j in range(4, 6):
             total = 0.0
             for r in range(n):
                 p, a, w = row[r], amps[r], powers[r][j]
@@ -303,8 +303,8 @@ class ShearPiece:
         return tuple([d[k][j] for k in range(n)] for j in range(5))
 
     def bounds(self):
-        """(per floor the bounds of x and its derivatives up to x^(5), per storey the bound of its
-        drift's third derivative) over the piece."""
+        """(per floor the bounds of |x^(4)| and |x^(5)|, per storey the bound of its drift's third
+        derivative) over the piece."""
         m = self.motion
         phi, n, modes = m.b.shapes, m.n, m.modes
         # each mode's free part is exp(-s tau) (A cos + B sin): |d^j| <= sqrt(A^2 + B^2) w^j

@@ -505,12 +505,14 @@ class RegimePiece:
                 [d[k][3] for k in range(n)], [d[k][4] for k in range(n)])
 
     def bounds(self):
+        """(per floor the bounds of |x^(4)| and |x^(5)|, per storey the bound of its drift's third
+        derivative) over the piece."""
         motion, n, tau, guards = self.motion, self.n, self.tau, self.guards
         if tau == guards.span:  # the guards' bounds are over this piece (each order's alone)
-            drifts = guards.drift_bounds
+            drifts = [b[3] for b in guards.drift_bounds]
         else:
-            drifts = motion.bounds(tau, 4, None, None, motion.modes.weighted_drifts(n))
-        return motion.bounds(tau, 6, range(n)), [b[3] for b in drifts]
+            drifts = [b[0] for b in motion.bounds(tau, 4, None, None, motion.modes.weighted_drifts(n), 3)]
+        return motion.bounds(tau, 6, range(n), None, None, 4), drifts
 
     def derivatives(self, s, floors):
         return self.motion.derivatives(s, floors)
