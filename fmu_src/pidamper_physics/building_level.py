@@ -23,7 +23,7 @@ import math
 
 from .impact import collide, impact_loss
 from .level_model import LevelModel
-from .modal import Modes, ModesError
+from .modal import Modes, ModesError, _dot_real
 from .modal_segments import ModalFlight, ModalStick, harmonic_work, take_peaks
 from .params import ParameterError, check_finite
 from .stepping import at_rest, rest_peaks
@@ -391,11 +391,11 @@ class BuildingFlight(ModalFlight):
         N = n + 1
         s, c = self.motion.load(tau)
         K, C, b, a, om = self.K, self.C, self.b, self.f, self.om
-        acc = [b[r] - sum(K[r][k] * z[k] for k in range(N)) - sum(C[r][k] * z[N + k] for k in range(N))
-               for r in range(N)]
+        x, v = z[:N], z[N:]  # the sums added left to right from 0 (_dot_real), as sum() did before 3.12
+        acc = [b[r] - _dot_real(K[r], x) - _dot_real(C[r], v) for r in range(N)]
         acc[j] += a * s
-        jx = a * om * c - sum(K[j][k] * z[N + k] for k in range(N)) - sum(C[j][k] * acc[k] for k in range(N))
-        jy = -sum(K[n][k] * z[N + k] for k in range(N)) - sum(C[n][k] * acc[k] for k in range(N))
+        jx = a * om * c - _dot_real(K[j], v) - _dot_real(C[j], acc)
+        jy = -_dot_real(K[n], v) - _dot_real(C[n], acc)
         g, g1, g2, g3 = z[j] - z[n], z[N + j] - z[N + n], acc[j] - acc[n], jx - jy
         if i == 0:
             return self.D - g, -g1, -g2, -g3

@@ -26,3 +26,16 @@ cdef class ModalFlight:
     @cython.locals(x=cython.double, y=cython.double, v=cython.double, u=cython.double, g=cython.double,
                    dg=cython.double, D=cython.double)
     cpdef tuple values(self, double tau)
+
+
+@cython.locals(s=cython.double, i=cython.Py_ssize_t, a=cython.double, b=cython.double, c=cython.double,
+               d=cython.double)
+cpdef double _pair_dot(p, x, Py_ssize_t ox, q, y, Py_ssize_t oy, Py_ssize_t n) except? -1.0
+
+@cython.locals(s=cython.double, i=cython.Py_ssize_t, a=cython.double, b=cython.double, c=cython.double,
+               d=cython.double)
+cpdef double _pair_dot_abs(p, z, q, Py_ssize_t n) except? -1.0
+
+@cython.locals(s=cython.doublecomplex, i=cython.Py_ssize_t, a=cython.double, b=cython.doublecomplex,
+               c=cython.double, d=cython.doublecomplex)
+cpdef double complex _mode_row(p, q, V, Py_ssize_t n, Py_ssize_t k) except *

@@ -111,14 +111,14 @@ class ModalStick:
         aa = abs(a)
         # the guard's linear part c . z = kx . x + kv . v, as a row over the modes, and its bounds
         V = modes.V
-        row = [sum(self.kx[i] * V[i][k] + self.kv[i] * V[n + i][k] for i in range(n)) for k in range(len(modes.lam))]
+        row = [_mode_row(self.kx, self.kv, V, n, k) for k in range(len(modes.lam))]
         bound = motion.bounds(T, _ORDERS, None, [row])[0]  # (rows, vectors)
         rest = motion.rest(None, [row])[0]
         self.bounds = tuple(bound[o] + aa * om ** o for o in (2, 3, 4))
-        size = sum(abs(self.kx[i]) * abs(z0[i]) + abs(self.kv[i]) * abs(z0[n + i]) for i in range(n))
+        size = _pair_dot_abs(self.kx, z0, self.kv, n)
         self.noise = (TOLERANCE * (abs(self.k0) + noise_size(abs(rest) + bound[0], size + T * bound[1], d) + aa),) + \
             tuple(TOLERANCE * (bound[o] + aa * om ** o) for o in (1, 2, 3))
-        start = sgn * (sum(self.kx[i] * z0[i] + self.kv[i] * z0[n + i] for i in range(n)) + self.k0 + a * math.sin(psi))
+        start = sgn * (_pair_dot(self.kx, z0, 0, self.kv, z0, n, n) + self.k0 + a * math.sin(psi))
         floor = max(sgn * (self.k0 + rest) - bound[0] - aa, start - T * (bound[1] + aa * om))  # least s N/m on [0, T]
         self.clear = floor > self.noise[0] * (1.0 + self.growth * T)
 
@@ -151,19 +151,46 @@ class ModalStick:
 
     def values(self, tau):
         x, v, acc, _, _, s, c = self._chain(tau)
-        sg, kx, kv, a, om = self.sgn, self.kx, self.kv, self.a, self.om
-        rng = range(self.n)
-        return (sg * (sum(kx[i] * x[i] + kv[i] * v[i] for i in rng) + self.k0 + a * s),
-                sg * (sum(kx[i] * v[i] + kv[i] * acc[i] for i in rng) + a * om * c))
+        sg, kx, kv, a, om, n = self.sgn, self.kx, self.kv, self.a, self.om, self.n
+        return (sg * (_pair_dot(kx, x, 0, kv, v, 0, n) + self.k0 + a * s),
+                sg * (_pair_dot(kx, v, 0, kv, acc, 0, n) + a * om * c))
 
     def derivs(self, tau, i=0):
         x, v, acc, jerk, snap, s, c = self._chain(tau)
-        sg, kx, kv, a, om = self.sgn, self.kx, self.kv, self.a, self.om
-        rng = range(self.n)
-        return (sg * (sum(kx[k] * x[k] + kv[k] * v[k] for k in rng) + self.k0 + a * s),
-                sg * (sum(kx[k] * v[k] + kv[k] * acc[k] for k in rng) + a * om * c),
-                sg * (sum(kx[k] * acc[k] + kv[k] * jerk[k] for k in rng) - a * om * om * s),
-                sg * (sum(kx[k] * jerk[k] + kv[k] * snap[k] for k in rng) - a * om ** 3 * c))
+        sg, kx, kv, a, om, n = self.sgn, self.kx, self.kv, self.a, self.om, self.n
+        return (sg * (_pair_dot(kx, x, 0, kv, v, 0, n) + self.k0 + a * s),
+                sg * (_pair_dot(kx, v, 0, kv, acc, 0, n) + a * om * c),
+                sg * (_pair_dot(kx, acc, 0, kv, jerk, 0, n) - a * om * om * s),
+                sg * (_pair_dot(kx, jerk, 0, kv, snap, 0, n) - a * om ** 3 * c))
+
+
+def _pair_dot(p, x, ox, q, y, oy, n):
+    """sum_i (p_i x_(ox+i) + q_i y_(oy+i)), i < n, of floats, added left to right from 0 (as sum()
+    did before CPython 3.12 compensated it: one order for both builds on every Python)."""
+    s = 0.0
+    for i in range(n):
+        a, b, c, d = p[i], x[ox + i], q[i], y[oy + i]
+        s += a * b + c * d
+    return s
+
+
+def _pair_dot_abs(p, z, q, n):
+    """sum_i (|p_i| |z_i| + |q_i| |z_(n+i)|), i < n, added left to right from 0."""
+    s = 0.0
+    for i in range(n):
+        a, b, c, d = p[i], z[i], q[i], z[n + i]
+        s += abs(a) * abs(b) + abs(c) * abs(d)
+    return s
+
+
+def _mode_row(p, q, V, n, k):
+    """sum_i (p_i V_ik + q_i V_(n+i)k), i < n: mode k's entry of the row p . x + q . v (complex V),
+    added left to right from 0."""
+    s = 0j
+    for i in range(n):
+        a, b, c, d = p[i], V[i][k], q[i], V[n + i][k]
+        s += a * b + c * d
+    return s
 
 
 def chain(z, n, K, C, b, j, a, om, s, c, full=True):
