@@ -23,7 +23,7 @@ import math
 
 from .impact import collide, impact_loss
 from .level_model import LevelModel
-from .modal import Modes, ModesError, _dot_real
+from .modal import ModesError, _dot_real, solved_modes
 from .modal_segments import ModalFlight, ModalStick, harmonic_work, take_peaks
 from .params import ParameterError, check_finite
 from .stepping import at_rest, rest_peaks
@@ -61,8 +61,8 @@ class BuildingModel(LevelModel):
         self.ride_masses = ride
         self.Kr, self.Cr = _per_mass(b.K, ride), _per_mass(b.C, ride)
         try:
-            self.free = (Modes(self.Kf, self.Cf), self.Kf, self.Cf)
-            self.ride = (Modes(self.Kr, self.Cr), self.Kr, self.Cr)
+            self.free = (solved_modes(self.Kf, self.Cf), self.Kf, self.Cf)
+            self.ride = (solved_modes(self.Kr, self.Cr), self.Kr, self.Cr)
         except ModesError as err:
             raise ParameterError("storeys, floor[k].m, storey[k].k, mu, FR, zeta_s, zeta_p",
                                  (p.storeys, b.masses, b.stiffnesses, p.mu, p.FR, p.zeta_s, p.zeta_p),
@@ -97,7 +97,7 @@ class BuildingModel(LevelModel):
             Kf = _per_mass(K, b.masses) + [self.Kf[n]]
             Kr = _per_mass(self.storeys.stiffness(), self.ride_masses)
             try:
-                systems = ((Modes(Kf, self.Cf), Kf, self.Cf), (Modes(Kr, self.Cr), Kr, self.Cr), Kf, self.Cf, Kr,
+                systems = ((solved_modes(Kf, self.Cf), Kf, self.Cf), (solved_modes(Kr, self.Cr), Kr, self.Cr), Kf, self.Cf, Kr,
                            self.Cr)
             except ModesError as err:
                 systems = f"the regime {key} (storeys elastic 0, yielding +1 / -1) has no modes: {err}"

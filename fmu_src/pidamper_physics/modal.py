@@ -21,6 +21,7 @@ Plain Python (math, cmath): this runs inside the FMU.
 """
 import cmath
 import math
+import struct
 import math as _libm  # exp, expm1, sin, cos: in the compiled build libc's (modal.pxd), the very functions
 # CPython's math and cmath call
 
@@ -73,6 +74,27 @@ def exp_pair(z):
 
 class ModesError(ValueError):
     """The system has coinciding modes (not diagonalisable): closed form by modes fails."""
+
+
+#: the systems solved in this process, by their matrices' bits: a yielding building meets the same
+#: regimes again, in one run and in every run of a study (Modes is read-only once built)
+_SOLVED = {}
+SOLVED_KEPT = 1024  # systems kept (the oldest dropped first)
+
+
+def solved_modes(K, C):
+    """Modes(K, C), solved once per process for each (K, C) (equal to the last bit, signed zeros
+    included: the same matrices give the same modes, so a kept one is what a new solve would give).
+    ModesError is raised anew each time."""
+    key = (len(K), struct.pack(f"<{len(K) * len(K)}d", *[k for row in K for k in row]),
+           struct.pack(f"<{len(C) * len(C)}d", *[c for row in C for c in row]))
+    modes = _SOLVED.get(key)
+    if modes is None:
+        modes = Modes(K, C)
+        if len(_SOLVED) >= SOLVED_KEPT:
+            del _SOLVED[next(iter(_SOLVED))]
+        _SOLVED[key] = modes
+    return modes
 
 
 class Modes:

@@ -30,7 +30,7 @@ Plain Python (math): this ships inside the FMU.
 import math
 
 from .events import locate
-from .modal import Modes, ModesError, Motion
+from .modal import ModesError, Motion, solved_modes
 from .peaks import Peaks
 from .refusals import ParameterError, check_finite, check_step
 from .segments import TOLERANCE
@@ -279,7 +279,7 @@ class YieldingMotion:
         if modes is None:
             K = [[k / m for k in row] for row, m in zip(self.storeys.stiffness(), self.b.masses)]
             try:
-                modes = Modes(K, self._c)
+                modes = solved_modes(K, self._c)
             except ModesError as err:
                 modes = f"the regime {key} (storeys elastic 0, yielding +1 / -1) has no modes: {err}"
             self._systems[key] = modes
