@@ -18,6 +18,7 @@ Plain Python (math): this ships inside the FMU.
 import math
 
 from .eigen import jacobi_eigh
+from .modal import _dot3, _matrix_sum
 
 
 class ShearBuilding:
@@ -38,7 +39,8 @@ class ShearBuilding:
         self.heights = [3.0] * n if heights is None else [float(h) for h in heights]
         # P-Delta: the geometric stiffness P_k / h_k [N/m] of each storey, taken off its stiffness
         self.geometric = [0.0] * n if geometric is None else [float(g) for g in geometric]
-        ks = [k - g for k, g in zip(self.stiffnesses, self.geometric)] + [0.0]
+        self.net = [k - g for k, g in zip(self.stiffnesses, self.geometric)]  # k_k - P_k / h_k [N/m]
+        ks = self.net + [0.0]
         self.K = [[0.0] * n for _ in range(n)]
         for i in range(n):
             self.K[i][i] = ks[i] + ks[i + 1]
@@ -80,12 +82,9 @@ class ShearBuilding:
     def base_shear(self, x, v):
         """Force of the building on the ground [N] (storey 1's spring and the dashpots' ground
         reaction): the sum of K x + C x' over all floors."""
-        n = self.n
-        return sum(self.K[i][j] * x[j] + self.C[i][j] * v[j] for i in range(n) for j in range(n))
+        return _matrix_sum(self.K, x, self.C, v, self.n)
 
     def energy(self, x, v):
         """Kinetic plus strain energy [J] of the floors (relative motion)."""
-        n = self.n
-        kin = 0.5 * sum(self.masses[i] * v[i] * v[i] for i in range(n))
-        strain = 0.5 * sum((k - g) * d * d for k, g, d in zip(self.stiffnesses, self.geometric, self.drifts(x)))
-        return kin + strain
+        d = self.drifts(x)
+        return 0.5 * _dot3(self.masses, v, v) + 0.5 * _dot3(self.net, d, d)

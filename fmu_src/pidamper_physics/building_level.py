@@ -23,7 +23,7 @@ import math
 
 from .impact import collide, impact_loss
 from .level_model import LevelModel
-from .modal import ModesError, _dot_real, solved_modes
+from .modal import ModesError, _dot3, _dot_change, _dot_real, _matrix_sum, _total, solved_modes
 from .modal_segments import ModalFlight, ModalStick, harmonic_work, take_peaks
 from .params import ParameterError, check_finite
 from .stepping import at_rest, rest_peaks
@@ -211,7 +211,7 @@ class BuildingModel(LevelModel):
         r = y - x
         if self.storeys is None:
             return p.building.energy(xs, vs) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
-        kinetic = 0.5 * sum(mk * vk * vk for mk, vk in zip(p.building.masses, vs))
+        kinetic = 0.5 * _dot3(p.building.masses, vs, vs)
         return kinetic + self.storeys.strain(p.building.drifts(xs)) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
 
     # ---- segments -------------------------------------------------------------------
@@ -297,8 +297,7 @@ class BuildingModel(LevelModel):
         if held is not None:
             for i, c in enumerate(held):
                 loads[i] += c
-        return [loads[i] - sum(K[i][k] * q[k] for k in range(len(q))) - sum(C[i][k] * dq[k] for k in range(len(q)))
-                for i in range(n)]
+        return [loads[i] - _dot_real(K[i], q) - _dot_real(C[i], dq) for i in range(n)]
 
     def acceleration(self, x, v, y, u, side, f, ground):
         return self._accelerations(x, v, y, u, side, f, ground)[self.j]
@@ -317,7 +316,7 @@ class BuildingModel(LevelModel):
             return xs, acc, b.drifts(xs), b.base_shear(xs, vs)
         drifts = b.drifts(xs)
         n, C = self.n, b.C
-        shear = sum(self.storeys.restoring(drifts)) + sum(C[i][k] * vs[k] for i in range(n) for k in range(n))
+        shear = _total(self.storeys.restoring(drifts)) + _matrix_sum(C, vs, None, None, n)
         return xs, acc, drifts, shear
 
     def peak_outputs(self, drifts):
@@ -334,7 +333,7 @@ class BuildingModel(LevelModel):
         xs0, xs1 = seg.start_floors, seg.floors_at(tau)
         ground = -fc[1]
         held = p.M * (fc[0] + ground) * (after[0] - before[0]) - ground * (
-            sum(m * (x1 - x0) for m, x0, x1 in zip(b.masses, xs0, xs1)) + p.m * (after[2] - before[2]))
+            _dot_change(b.masses, xs1, xs0) + p.m * (after[2] - before[2]))
         w = held + p.M * harmonic_work(seg, tau, p.F0 / p.M, p.Omega, psi, _floor_velocity)
         return w, w - e_change - self._hysteretic
 

@@ -35,6 +35,19 @@ cpdef double _real_dot(list row, list eta) except? -1.0
 @cython.locals(k=cython.Py_ssize_t, s=cython.double, x=cython.double, y=cython.double)
 cpdef double _dot_real(list a, list b) except? -1.0
 
+@cython.locals(k=cython.Py_ssize_t, s=cython.double, x=cython.double)
+cpdef double _total(list a) except? -1.0
+
+@cython.locals(k=cython.Py_ssize_t, s=cython.double, x=cython.double, y=cython.double, z=cython.double)
+cpdef double _dot3(list a, b, c) except? -1.0
+
+@cython.locals(k=cython.Py_ssize_t, s=cython.double, x=cython.double, y=cython.double, z=cython.double)
+cpdef double _dot_change(list a, x1, x0) except? -1.0
+
+@cython.locals(i=cython.Py_ssize_t, j=cython.Py_ssize_t, s=cython.double, a=list, b=list, p=cython.double,
+               q=cython.double, r=cython.double, w=cython.double)
+cpdef double _matrix_sum(list A, x, B, v, Py_ssize_t n) except? -1.0
+
 @cython.locals(i=cython.Py_ssize_t, s=cython.doublecomplex, wi=cython.doublecomplex, xi=cython.double)
 cpdef double complex _dot(list w, x, Py_ssize_t offset, Py_ssize_t n) except *
 

@@ -507,6 +507,50 @@ def _dot_real(a, b):
     return s
 
 
+def _total(a):
+    """sum_k a_k of floats, added left to right from 0 (sum() before CPython 3.12 compensated it)."""
+    s = 0.0
+    for k in range(len(a)):
+        x = a[k]
+        s += x
+    return s
+
+
+def _dot3(a, b, c):
+    """sum_k (a_k b_k) c_k of floats, added left to right from 0."""
+    s = 0.0
+    for k in range(len(a)):
+        x, y, z = a[k], b[k], c[k]
+        s += x * y * z
+    return s
+
+
+def _dot_change(a, x1, x0):
+    """sum_k a_k (x1_k - x0_k) of floats, added left to right from 0."""
+    s = 0.0
+    for k in range(len(a)):
+        x, y, z = a[k], x1[k], x0[k]
+        s += x * (y - z)
+    return s
+
+
+def _matrix_sum(A, x, B, v, n):
+    """sum over i, then j < n of A_ij x_j (+ B_ij v_j when B is given), added left to right from 0."""
+    s = 0.0
+    for i in range(n):
+        a = A[i]
+        if B is None:
+            for j in range(n):
+                p, q = a[j], x[j]
+                s += p * q
+        else:
+            b = B[i]
+            for j in range(n):
+                p, q, r, w = a[j], x[j], b[j], v[j]
+                s += p * q + r * w
+    return s
+
+
 def _dot(w, x, offset, n):
     """sum_i w[offset + i] x[i], i < n (complex w, real x), added left to right from 0."""
     s = 0j

@@ -30,7 +30,7 @@ Plain Python (math): this ships inside the FMU.
 import math
 
 from .events import locate
-from .modal import ModesError, Motion, solved_modes
+from .modal import ModesError, Motion, _dot3, solved_modes
 from .peaks import Peaks
 from .refusals import ParameterError, check_finite, check_step
 from .segments import TOLERANCE
@@ -175,7 +175,7 @@ class YieldingMotion:
         v = self.v if v is None else v
         if self.track is not None:  # elastic: the elastic building's energy
             return self.b.energy(x, v)
-        kin = 0.5 * sum(m * u * u for m, u in zip(self.b.masses, v))
+        kin = 0.5 * _dot3(self.b.masses, v, v)
         return kin + self.storeys.strain(self.drifts(x))
 
     # ---- stepping -------------------------------------------------------------------------
