@@ -69,6 +69,15 @@ def test_a_stale_or_broken_compiled_build_falls_back_to_the_plain_python(tmp_pat
     assert build == "pure Python (impact.py changed since it was compiled (run python -m build_fmu.compile))"
     assert where.endswith("modal.py")
     source.write_text(text)
+    shared = package / "_ccomplex.pxd"  # a typing file the compiled modules cimport (no module of its own)
+    typing = shared.read_text()
+    shared.write_text(typing + "\n")
+    build, where = _python(probe, env).split("\n")[:2]
+    assert build.startswith("pure Python (damper.pxd or the shared _ccomplex.pxd changed since it was compiled")
+    assert where.endswith("modal.py")
+    shared.write_text(typing)
+    build, _ = _python(probe, env).split("\n")[:2]
+    assert build.startswith("compiled (")
     broken = next(package.glob("peaks*.so"))
     broken.write_bytes(b"not an extension module")  # an extension that does not load
     build, where = _python(probe, env).split("\n")[:2]
