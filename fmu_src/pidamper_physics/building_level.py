@@ -97,8 +97,8 @@ class BuildingModel(LevelModel):
             Kf = _per_mass(K, b.masses) + [self.Kf[n]]
             Kr = _per_mass(self.storeys.stiffness(), self.ride_masses)
             try:
-                systems = ((solved_modes(Kf, self.Cf), Kf, self.Cf), (solved_modes(Kr, self.Cr), Kr, self.Cr), Kf, self.Cf, Kr,
-                           self.Cr)
+                systems = ((solved_modes(Kf, self.Cf), Kf, self.Cf), (solved_modes(Kr, self.Cr), Kr, self.Cr),
+                           Kf, self.Cf, Kr, self.Cr)
             except ModesError as err:
                 systems = f"the regime {key} (storeys elastic 0, yielding +1 / -1) has no modes: {err}"
             self._regimes[key] = systems
