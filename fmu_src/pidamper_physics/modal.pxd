@@ -32,6 +32,11 @@ cpdef double _weighted_real(list weight, list row, list eta) except? -1.0
 @cython.locals(k=cython.Py_ssize_t, s=cython.double, v=cython.doublecomplex, e=cython.doublecomplex)
 cpdef double _real_dot(list row, list eta) except? -1.0
 
+@cython.locals(count=cython.Py_ssize_t, k=cython.Py_ssize_t, l0=list, l1=list, l2=list, l3=list, l4=list,
+               s0=cython.double, s1=cython.double, s2=cython.double, s3=cython.double, s4=cython.double,
+               v=cython.doublecomplex, e=cython.doublecomplex)
+cpdef list _real_dots(list row, list levels, Py_ssize_t lo, Py_ssize_t hi)
+
 @cython.locals(k=cython.Py_ssize_t, s=cython.double, x=cython.double, y=cython.double)
 cpdef double _dot_real(list a, list b) except? -1.0
 

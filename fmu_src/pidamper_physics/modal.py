@@ -313,7 +313,7 @@ class Motion:
         out = {}
         for i, (lo, hi) in rows.items():
             row = m.weighted_complex(i)
-            out[i] = [_real_dot(row, levels[j]) for j in range(lo, hi)]
+            out[i] = _real_dots(row, levels, lo, hi)
         return out
 
     def component_derivatives(self, tau, first, last, orders):
@@ -321,7 +321,7 @@ class Motion:
         derivatives() gives them."""
         m = self.modes
         levels = self._levels_at(tau, orders)
-        return [[_real_dot(m.weighted_complex(i), levels[j]) for j in range(orders)] for i in range(first, last)]
+        return [_real_dots(m.weighted_complex(i), levels, 0, orders) for i in range(first, last)]
 
     def _levels_at(self, tau, orders):
         """_levels(tau, orders), those at 0 and the last kept (shared: do not change them)."""
@@ -495,6 +495,37 @@ def _real_dot(row, eta):
         e = eta[k]
         s += (v * e).real
     return s
+
+
+def _real_dots(row, levels, lo, hi):
+    """[_real_dot(row, levels[j]) for lo <= j < hi]: the same sums, each left to right from 0, with
+    the row's entries read once for up to five of them."""
+    count = hi - lo
+    if count > 5 or count < 1:
+        return [_real_dot(row, levels[j]) for j in range(lo, hi)]
+    l0 = levels[lo]
+    l1 = levels[lo + 1] if count > 1 else l0
+    l2 = levels[lo + 2] if count > 2 else l0
+    l3 = levels[lo + 3] if count > 3 else l0
+    l4 = levels[lo + 4] if count > 4 else l0
+    s0 = s1 = s2 = s3 = s4 = 0.0
+    for k in range(len(row)):
+        v = row[k]
+        e = l0[k]
+        s0 += (v * e).real
+        if count > 1:
+            e = l1[k]
+            s1 += (v * e).real
+            if count > 2:
+                e = l2[k]
+                s2 += (v * e).real
+                if count > 3:
+                    e = l3[k]
+                    s3 += (v * e).real
+                    if count > 4:
+                        e = l4[k]
+                        s4 += (v * e).real
+    return [s0, s1, s2, s3, s4][:count]
 
 
 def _dot_real(a, b):
