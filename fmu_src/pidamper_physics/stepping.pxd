@@ -9,6 +9,9 @@ from .events cimport classify, locate, resolution_speed
 
 cpdef bint same_bits(double a, double b)
 
+@cython.locals(i=cython.Py_ssize_t)
+cpdef bint same_floats(a, b) except -1
+
 
 cdef class EventDriven:
     cdef dict __dict__  # models keep their own attributes (and tests may replace a method on an instance)

@@ -76,6 +76,15 @@ def same_bits(a, b):
     return a == b and (a != 0.0 or math.copysign(1.0, a) == math.copysign(1.0, b))
 
 
+def same_floats(a, b):
+    """True when a and b hold the same floats bit for bit, pair by pair (same_bits), over the
+    shorter of the two (as all(map(same_bits, a, b)), without the Python call per pair)."""
+    for i in range(min(len(a), len(b))):
+        if not same_bits(a[i], b[i]):
+            return False
+    return True
+
+
 def rest_peaks(peaks, tau, a_g):
     """peaks.Peaks.take() of a piece of tau [s] over which every floor stays at rest relative to
     the ground (displacement, velocity, acceleration and all their derivatives zero, a_g zero): the

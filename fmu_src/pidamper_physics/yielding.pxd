@@ -2,8 +2,9 @@
 # piece as a typed class, its loops in C doubles.
 import cython
 
-from .modal cimport Modes, Motion
+from .modal cimport Modes, Motion, _dot3
 from .peaks cimport Peaks
+from .stepping cimport same_bits, same_floats
 from .storeys cimport Hysteresis
 
 

@@ -35,7 +35,7 @@ from .peaks import Peaks
 from .refusals import ParameterError, check_finite, check_step
 from .segments import TOLERANCE
 from .shear_motion import ShearMotion, make_building
-from .stepping import MAX_PIECES, same_bits
+from .stepping import MAX_PIECES, same_bits, same_floats
 from .storeys import Hysteresis, check_damping, check_storeys
 
 
@@ -290,7 +290,7 @@ class YieldingMotion:
         they and the storeys' state stay the same; do not change the list)."""
         version = self.storeys.version
         held = self._held
-        if held[0] == version and same_bits(held[2], ground) and all(map(same_bits, held[1], forces)):
+        if held[0] == version and same_bits(held[2], ground) and same_floats(held[1], forces):
             return held[3]
         loads = [(f + c) / m - ground for f, c, m in zip(forces, self.storeys.held(), self.b.masses)]
         self._held = (version, list(forces), ground, loads)
