@@ -73,7 +73,7 @@ def test_a_stale_or_broken_compiled_build_falls_back_to_the_plain_python(tmp_pat
     typing = shared.read_text()
     shared.write_text(typing + "\n")
     build, where = _python(probe, env).split("\n")[:2]
-    assert build.startswith("pure Python (damper.pxd or the shared _ccomplex.pxd changed since it was compiled")
+    assert build.startswith("pure Python (") and "or the shared _ccomplex.pxd changed since it was compiled" in build
     assert where.endswith("modal.py")
     shared.write_text(typing)
     build, _ = _python(probe, env).split("\n")[:2]
