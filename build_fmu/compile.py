@@ -33,7 +33,7 @@ from .locations import PHYSICS, sources
 
 #: modules that stay Python: the package's entry, the build selector itself and the plain bodies of
 #: the shared C helpers (their .pxd is cimported by the compiled modules: _build.SHARED_TYPING)
-PLAIN = ("__init__", "_build", "_ccomplex")
+PLAIN = ("__init__", "_build", "_ccomplex", "_clist")
 #: C flags: optimised, and floating point exactly as the plain build computes it; Cython's own complex
 #: type, not C99's (whose x + y*I loses a real part of -0.0; Cython's is CPython's arithmetic, mixed
 #: real and complex operands included), its abs() by hypot as CPython's (HAVE_HYPOT: without it
@@ -94,10 +94,13 @@ def compile_package(folder, package, quiet=True):
     extensions = [Extension(f"{package}.{name}", [f"{package}/{name}.py"], extra_compile_args=CFLAGS)
                   for name in names]
     cwd = os.getcwd()
+    select = selector(folder)
+    generated = _forget_changed_c(folder, work, package, names, select)
     os.chdir(folder.parent)  # extension names map to paths under the package's parent
     try:
         ext = cythonize(extensions, compiler_directives=DIRECTIVES, build_dir=str(work), quiet=quiet,
                         nthreads=os.cpu_count() or 1)
+        (work / GENERATED).write_text("".join(f"{name} {digests}\n" for name, digests in generated.items()))
         dist = Distribution({"name": package, "ext_modules": ext})
         cmd = dist.get_command_obj("build_ext")
         cmd.inplace, cmd.parallel = True, os.cpu_count() or 1
@@ -109,13 +112,32 @@ def compile_package(folder, package, quiet=True):
         stamp.write_text(settings())
     finally:
         os.chdir(cwd)
-    select = selector(folder)
     lines = []
     for name in names:
         lines.append(f"{name} {select.digest(folder / f'{name}.py')} {select.typing(folder, name)} "
                      f"{extension_name(name)}\n")
     (folder / select.COMPILED).write_text("".join(lines))
     return [folder / extension_name(name) for name in names]
+
+
+#: what each generated C file in the work folder was made from: module, digests of its .py and its
+#: typing (_build.typing), the settings
+GENERATED = "generated.txt"
+
+
+def _forget_changed_c(folder, work, package, names, select):
+    """Remove the generated C of each module whose .py, typing or settings differ from those it was
+    made from (the work folder's GENERATED): cythonize's own timestamps miss a shared .pxd that a
+    module cimports with `from . cimport` (_build.SHARED_TYPING), a C file made from another copy of
+    the sources, and new directives.  Returns what the C will be made from."""
+    record = work / GENERATED
+    made = dict(line.split(" ", 1) for line in record.read_text().splitlines()) if record.is_file() else {}
+    current = {name: f"{select.digest(folder / f'{name}.py')} {select.typing(folder, name)} "
+                     f"{hashlib.sha256(settings().encode()).hexdigest()[:16]}" for name in names}
+    for name, digests in current.items():
+        if made.get(name) != digests:
+            (work / package / f"{name}.c").unlink(missing_ok=True)
+    return current
 
 
 def physics_files(folder):

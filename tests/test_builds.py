@@ -73,7 +73,8 @@ def test_a_stale_or_broken_compiled_build_falls_back_to_the_plain_python(tmp_pat
     typing = shared.read_text()
     shared.write_text(typing + "\n")
     build, where = _python(probe, env).split("\n")[:2]
-    assert build.startswith("pure Python (") and "or the shared _ccomplex.pxd changed since it was compiled" in build
+    assert build.startswith("pure Python (") and "or the shared _ccomplex.pxd" in build
+    assert "changed since it was compiled" in build
     assert where.endswith("modal.py")
     shared.write_text(typing)
     build, _ = _python(probe, env).split("\n")[:2]
@@ -82,6 +83,32 @@ def test_a_stale_or_broken_compiled_build_falls_back_to_the_plain_python(tmp_pat
     broken.write_bytes(b"not an extension module")  # an extension that does not load
     build, where = _python(probe, env).split("\n")[:2]
     assert build.startswith("pure Python (an extension did not load") and where.endswith("modal.py")
+
+
+def test_an_edited_shared_typing_file_regenerates_the_c_of_the_typed_modules(tmp_path):
+    """Cythonize's timestamps miss a shared .pxd cimported as `from . cimport _clist`: the compile
+    step removes the generated C of every module whose sources or typing changed since it was made,
+    so that cythonize makes it again (and only those: a module without a .pxd keeps its C)."""
+    from build_fmu import compile as step
+
+    package = tmp_path / "pidamper_physics"
+    shutil.copytree(sources()[1], package, ignore=shutil.ignore_patterns("*.so", "_compiled.txt", "__pycache__"))
+    select = step.selector(package)
+    names = step.modules(package)
+    work = tmp_path / "work"
+    (work / "pidamper_physics").mkdir(parents=True)
+    made = step._forget_changed_c(package, work, "pidamper_physics", names, select)
+    (work / step.GENERATED).write_text("".join(f"{name} {digests}\n" for name, digests in made.items()))
+    for name in names:
+        (work / "pidamper_physics" / f"{name}.c").write_text("/* generated */")
+    assert step._forget_changed_c(package, work, "pidamper_physics", names, select) == made
+    assert all((work / "pidamper_physics" / f"{name}.c").is_file() for name in names)  # nothing changed
+    shared = package / "_clist.pxd"
+    shared.write_text(shared.read_text() + "\n")
+    step._forget_changed_c(package, work, "pidamper_physics", names, select)
+    left = {name for name in names if (work / "pidamper_physics" / f"{name}.c").is_file()}
+    assert left == {name for name in names if not (package / f"{name}.pxd").is_file()}
+    assert "modal" not in left and "eigen" in left
 
 
 def _fmu_run(fmu, extra_env=None):

@@ -113,3 +113,76 @@ def test_a_system_is_solved_once_per_process():
     for _ in range(2):
         with pytest.raises(modal.ModesError):
             modal.solved_modes([[1.0, 0.0], [0.0, 1.0]], [[0.0, 1e-30], [1e-30, 0.0]])
+
+
+def _special(rng):
+    return rng.choice([_number(rng), _number(rng), 0.0, -0.0, math.inf, -math.inf, math.nan, 3, -7])
+
+
+def _reference_sums(rng, n):
+    """Random lists (floats with signed zeros, infinities, NaN and a few ints; complex) and the sums
+    as a plain loop of Python's own operators forms them."""
+    a = [_special(rng) for _ in range(n)]
+    b = [_special(rng) for _ in range(n)]
+    row = [complex(_special(rng), _special(rng)) for _ in range(n)]
+    eta = [complex(_special(rng), _special(rng)) for _ in range(n)]
+    dot = weighted = real = 0.0
+    cdot = 0j
+    for k in range(n):
+        dot += a[k] * b[k]
+        weighted += a[k] * (row[k] * eta[k]).real
+        real += (row[k] * eta[k]).real
+        cdot += row[k] * b[k]
+    return a, b, row, eta, (dot, weighted, real, cdot)
+
+
+def _same(x, y):
+    x, y = complex(x), complex(y)
+    return all((math.isnan(p) and math.isnan(q)) or p.hex() == q.hex()
+               for p, q in ((x.real, y.real), (x.imag, y.imag)))
+
+
+def test_list_sums_are_pythons_loops_to_the_bit():
+    """modal's list sums (in the compiled build _clist.pxd's C bodies, which read the items in place)
+    give what a loop of Python's operators gives, item types, signed zeros, infinities and NaN
+    included; and the plain bodies (_clist.py) the same."""
+    from pidamper_physics import _clist
+
+    rng = random.Random(23)
+    for _ in range(20_000):
+        n = rng.randint(0, 7)
+        a, b, row, eta, (dot, weighted, real, cdot) = _reference_sums(rng, n)
+        for impl_dot, impl_weighted, impl_real, impl_cdot in (
+                (modal._dot_real, modal._weighted_real, modal._real_dot, modal._dot),
+                (_clist.dot, _clist.weighted_real, _clist.real_dot, _clist.complex_dot)):
+            assert _same(impl_dot(a, b), dot), (a, b)
+            assert _same(impl_weighted(a, row, eta), weighted), (a, row, eta)
+            assert _same(impl_real(row, eta), real), (row, eta)
+            assert _same(impl_cdot(row, b, 0, n), cdot), (row, b)
+        levels = [eta, row, [complex(x) for x in b], eta, row, eta]
+        for lo in range(0, 3):
+            for hi in range(lo + 1, lo + 7):
+                expected = [modal._real_dot(row, levels[j]) for j in range(lo, min(hi, len(levels)))]
+                if hi > len(levels):
+                    continue
+                assert all(map(_same, modal._real_dots(row, levels, lo, hi), expected))
+                assert all(map(_same, _clist.real_dots(row, levels, lo, hi), expected))
+
+
+@pytest.mark.parametrize("call", [
+    lambda: modal._dot_real([1.0, 2.0], [1.0]),
+    lambda: modal._weighted_real([1.0], [1j, 1j], [1j, 1j]),
+    lambda: modal._real_dot([1j, 1j], [1j]),
+    lambda: modal._dot([1j], [1.0, 2.0], 0, 2),
+    lambda: modal._dot([1j, 1j], [1.0, 2.0], 1, 2),
+])
+def test_list_sums_refuse_a_short_list_as_indexing_does(call):
+    with pytest.raises(IndexError):
+        call()
+
+
+def test_list_sums_refuse_what_is_no_number():
+    with pytest.raises(TypeError):
+        modal._dot_real([1.0, "2"], [1.0, 1.0])
+    with pytest.raises(TypeError):
+        modal._real_dot([1j, None], [1j, 1j])

@@ -18,7 +18,7 @@ import sys
 #: the manifest's file name, beside the sources
 COMPILED = "_compiled.txt"
 #: typing files any compiled module may cimport (C bodies of plain-Python helpers, never compiled)
-SHARED_TYPING = ("_ccomplex.pxd",)
+SHARED_TYPING = ("_ccomplex.pxd", "_clist.pxd")
 
 
 def digest(path):

@@ -7,6 +7,7 @@ import cython
 from libc cimport math as _libm
 
 from . cimport _ccomplex as _cx
+from . cimport _clist as _cl
 
 cdef double _INF
 
@@ -25,19 +26,12 @@ cpdef list _free(list lams, list eta0, list shift, double tau)
 @cython.locals(k=cython.Py_ssize_t, lam=cython.doublecomplex, e=cython.doublecomplex, c=cython.doublecomplex)
 cpdef list _rates(list lams, list eta, list shift)
 
-@cython.locals(k=cython.Py_ssize_t, s=cython.double, w=cython.double, v=cython.doublecomplex,
-               e=cython.doublecomplex)
 cpdef double _weighted_real(list weight, list row, list eta) except? -1.0
 
-@cython.locals(k=cython.Py_ssize_t, s=cython.double, v=cython.doublecomplex, e=cython.doublecomplex)
 cpdef double _real_dot(list row, list eta) except? -1.0
 
-@cython.locals(count=cython.Py_ssize_t, k=cython.Py_ssize_t, l0=list, l1=list, l2=list, l3=list, l4=list,
-               s0=cython.double, s1=cython.double, s2=cython.double, s3=cython.double, s4=cython.double,
-               v=cython.doublecomplex, e=cython.doublecomplex)
 cpdef list _real_dots(list row, list levels, Py_ssize_t lo, Py_ssize_t hi)
 
-@cython.locals(k=cython.Py_ssize_t, s=cython.double, x=cython.double, y=cython.double)
 cpdef double _dot_real(list a, list b) except? -1.0
 
 @cython.locals(k=cython.Py_ssize_t, s=cython.double, x=cython.double)
@@ -53,7 +47,6 @@ cpdef double _dot_change(list a, x1, x0) except? -1.0
                q=cython.double, r=cython.double, w=cython.double)
 cpdef double _matrix_sum(list A, x, B, v, Py_ssize_t n) except? -1.0
 
-@cython.locals(i=cython.Py_ssize_t, s=cython.doublecomplex, wi=cython.doublecomplex, xi=cython.double)
 cpdef double complex _dot(list w, x, Py_ssize_t offset, Py_ssize_t n) except *
 
 @cython.locals(ar=cython.double, ai=cython.double, br=cython.double, bi=cython.double, ratio=cython.double,
@@ -65,11 +58,13 @@ cdef class Modes:
     cdef public Py_ssize_t n
     cdef public list lam, weight, V, W, secular
     cdef public double fastest, growth_rate
-    cdef dict _weighted, _complex, _difference, _drifts
+    cdef dict _weighted, _complex, _difference, _drifts, _floors, _powers
 
     cpdef list weighted_complex(self, Py_ssize_t i)
     cpdef list weighted_difference(self, Py_ssize_t i, Py_ssize_t j)
     cpdef list weighted_drifts(self, Py_ssize_t n)
+    cpdef list weighted_floors(self, Py_ssize_t n)
+    cpdef list powers(self, Py_ssize_t orders)
     cpdef list weighted(self, Py_ssize_t i)
 
 
@@ -111,5 +106,5 @@ cdef class Motion:
 
     @cython.locals(m=Modes, om=cython.double, per_mode=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t,
                    lam=cython.doublecomplex, a=cython.double, ck=cython.doublecomplex, size=cython.double,
-                   row=list, grow=cython.double)
+                   row=list, grow=cython.double, powers=list, pk=list, om_powers=list)
     cpdef list _columns_over(self, double T, Py_ssize_t orders)

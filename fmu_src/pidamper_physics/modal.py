@@ -26,6 +26,7 @@ import math as _libm  # exp, expm1, sin, cos: in the compiled build libc's (moda
 # CPython's math and cmath call
 
 from . import _ccomplex as _cx  # complex(re, im): a C complex in the compiled build
+from . import _clist as _cl  # sums over lists: C bodies in the compiled build
 from . import eigen
 
 #: |lam| / the fastest |lam| below which a mode is secular (a storey of zero tangent): its held
@@ -105,12 +106,13 @@ class Modes:
     eigen-solver fails)."""
 
     __slots__ = ("n", "lam", "weight", "V", "W", "fastest", "secular", "growth_rate", "_weighted", "_complex",
-                 "_difference", "_drifts")
+                 "_difference", "_drifts", "_floors", "_powers")
 
     def __init__(self, K, C):
         n = len(K)
         self.n = n
         self._weighted, self._complex, self._difference, self._drifts = {}, {}, {}, {}  # rows kept (below)
+        self._floors, self._powers = {}, {}
         # solved in the time unit 1/s of the stiffest term, so that the state matrix's rows (q and
         # q') have like scales whatever the units (a small g made V ill-scaled: 2e-4 of x lost at
         # g = 1e-15 m/s2); lam, V and W are scaled back at the end
@@ -207,6 +209,20 @@ class Modes:
         if n not in cache:
             cache[n] = [self.weighted(0)] + [self.weighted_difference(k, k - 1) for k in range(1, n)]
         return cache[n]
+
+    def weighted_floors(self, n):
+        """The rows (weighted) of the components 0..n-1 (a building's floors, first in z), kept."""
+        cache = self._floors
+        if n not in cache:
+            cache[n] = [self.weighted(i) for i in range(n)]
+        return cache[n]
+
+    def powers(self, orders):
+        """Per kept mode [|lam|^j for j < orders] (how a bound grows per derivative), kept."""
+        cache = self._powers
+        if orders not in cache:
+            cache[orders] = [[abs(lam) ** j for j in range(orders)] for lam in self.lam]
+        return cache[orders]
 
     def weighted(self, i):
         """weight_k |V_ik| over the kept modes (the bounds of component i's modal parts), kept."""
@@ -390,22 +406,26 @@ class Motion:
         the constant part) over [0, T]."""
         m = self.modes
         om = self.om
+        powers = m.powers(orders)  # per mode |lam|^j
+        if self.forced:
+            om_powers = [om ** j for j in range(orders)]
         per_mode = []
         for k in range(len(m.lam)):
-            lam = m.lam[k]
-            a = abs(lam)
+            pk = powers[k]
             ck = self.coef[k]
             size = abs(ck)
-            row = [size * a ** j for j in range(orders)]
+            row = [size * pk[j] for j in range(orders)]
             if self.forced:
+                lam = m.lam[k]
+                a = abs(lam)
                 for g, s in ((self.gp[k], 1j * om), (self.gm[k], -1j * om)):
                     ga = abs(g)
                     gap = abs(s - lam)
                     p = ga * T  # secular bound of the forced part, then its derivatives
                     for j in range(orders):
-                        steady = ga * (om ** j + a ** j) / gap if gap > 0.0 else math.inf
+                        steady = ga * (om_powers[j] + pk[j]) / gap if gap > 0.0 else math.inf
                         row[j] += min(p, steady)
-                        p = a * p + ga * om ** j
+                        p = a * p + ga * om_powers[j]
             per_mode.append(row)
         for i, k in enumerate(self.secular):  # eta^(j) = lam^(j-1) exp(lam tau) (lam eta0 + beta), j >= 1
             lam, a = m.lam[k], abs(m.lam[k])
@@ -478,64 +498,22 @@ def _rates(lams, eta, shift):
 
 def _weighted_real(weight, row, eta):
     """sum_k weight_k Re(row_k eta_k), added left to right from 0 (a component of z from its modes)."""
-    s = 0.0
-    for k in range(len(eta)):
-        w = weight[k]
-        v = row[k]
-        e = eta[k]
-        s += w * (v * e).real
-    return s
+    return _cl.weighted_real(weight, row, eta)
 
 
 def _real_dot(row, eta):
     """sum_k Re(row_k eta_k), added left to right from 0."""
-    s = 0.0
-    for k in range(len(row)):
-        v = row[k]
-        e = eta[k]
-        s += (v * e).real
-    return s
+    return _cl.real_dot(row, eta)
 
 
 def _real_dots(row, levels, lo, hi):
-    """[_real_dot(row, levels[j]) for lo <= j < hi]: the same sums, each left to right from 0, with
-    the row's entries read once for up to five of them."""
-    count = hi - lo
-    if count > 5 or count < 1:
-        return [_real_dot(row, levels[j]) for j in range(lo, hi)]
-    l0 = levels[lo]
-    l1 = levels[lo + 1] if count > 1 else l0
-    l2 = levels[lo + 2] if count > 2 else l0
-    l3 = levels[lo + 3] if count > 3 else l0
-    l4 = levels[lo + 4] if count > 4 else l0
-    s0 = s1 = s2 = s3 = s4 = 0.0
-    for k in range(len(row)):
-        v = row[k]
-        e = l0[k]
-        s0 += (v * e).real
-        if count > 1:
-            e = l1[k]
-            s1 += (v * e).real
-            if count > 2:
-                e = l2[k]
-                s2 += (v * e).real
-                if count > 3:
-                    e = l3[k]
-                    s3 += (v * e).real
-                    if count > 4:
-                        e = l4[k]
-                        s4 += (v * e).real
-    return [s0, s1, s2, s3, s4][:count]
+    """[_real_dot(row, levels[j]) for lo <= j < hi]: the same sums, each left to right from 0."""
+    return _cl.real_dots(row, levels, lo, hi)
 
 
 def _dot_real(a, b):
     """sum_k a_k b_k of floats, added left to right from 0."""
-    s = 0.0
-    for k in range(len(a)):
-        x = a[k]
-        y = b[k]
-        s += x * y
-    return s
+    return _cl.dot(a, b)
 
 
 def _total(a):
@@ -584,12 +562,7 @@ def _matrix_sum(A, x, B, v, n):
 
 def _dot(w, x, offset, n):
     """sum_i w[offset + i] x[i], i < n (complex w, real x), added left to right from 0."""
-    s = 0j
-    for i in range(n):
-        wi = w[offset + i]
-        xi = x[i]
-        s += wi * xi
-    return s
+    return _cl.complex_dot(w, x, offset, n)
 
 
 def _quot(a, b):

@@ -39,3 +39,6 @@ cpdef double _pair_dot_abs(p, z, q, Py_ssize_t n) except? -1.0
 @cython.locals(s=cython.doublecomplex, i=cython.Py_ssize_t, a=cython.double, b=cython.doublecomplex,
                c=cython.double, d=cython.doublecomplex)
 cpdef double complex _mode_row(p, q, V, Py_ssize_t n, Py_ssize_t k) except *
+
+@cython.locals(rows=cython.Py_ssize_t, r=cython.Py_ssize_t, acc=list, jerk=list, snap=list)
+cpdef tuple chain(z, Py_ssize_t n, K, C, b, Py_ssize_t j, double a, double om, double s, double c, bint full=*)

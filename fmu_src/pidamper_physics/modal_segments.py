@@ -197,14 +197,21 @@ def chain(z, n, K, C, b, j, a, om, s, c, full=True):
     """(x, v, acc, jerk, snap) of q'' + C q' + K q = b + e_j a sin(Omega tau + psi) at the state
     z = (q, q') of n DOF, given s, c = sin, cos(Omega tau + psi); jerk and snap None unless full."""
     x, v = z[:n], z[n:]
+    rows = len(K)
     # _dot_real forms and adds the products in the order of a sum over k (sum(map(mul, row, x)) did)
-    acc = [br - _dot_real(kr, x) - _dot_real(cr, v) for br, kr, cr in zip(b, K, C)]
+    acc = [0.0] * rows
+    for r in range(rows):
+        acc[r] = b[r] - _dot_real(K[r], x) - _dot_real(C[r], v)
     acc[j] += a * s
     if not full:
         return x, v, acc, None, None
-    jerk = [-_dot_real(kr, v) - _dot_real(cr, acc) for kr, cr in zip(K, C)]
+    jerk = [0.0] * rows
+    for r in range(rows):
+        jerk[r] = -_dot_real(K[r], v) - _dot_real(C[r], acc)
     jerk[j] += a * om * c
-    snap = [-_dot_real(kr, acc) - _dot_real(cr, jerk) for kr, cr in zip(K, C)]
+    snap = [0.0] * rows
+    for r in range(rows):
+        snap[r] = -_dot_real(K[r], acc) - _dot_real(C[r], jerk)
     snap[j] -= a * om * om * s
     return x, v, acc, jerk, snap
 
@@ -230,13 +237,27 @@ class ModalPiece:
         s, c = seg.motion.load(0.0)
         return chain(seg.z0, self.n, seg.K, seg.C, seg.b, self.j, self.a, seg.om, s, c)
 
+    def first(self):
+        """(x, v, acc) of every DOF at tau = 0, as start() gives them."""
+        seg = self.seg
+        s, c = seg.motion.load(0.0)
+        return chain(seg.z0, self.n, seg.K, seg.C, seg.b, self.j, self.a, seg.om, s, c, False)[:3]
+
     def bounds(self):
         """(per floor the bounds of |x^(4)| and |x^(5)|, per storey the bound of its drift's third
         derivative) over the piece."""
+        return self._bounds(4, 3)
+
+    def slopes(self):
+        """(per floor the bounds of |x''| and |x'''|, per storey the bound of its drift's first
+        derivative) over the piece."""
+        return self._bounds(2, 1)
+
+    def _bounds(self, floor_order, drift_order):
         motion, floors = self.seg.motion, self.floors
         drifts = motion.modes.weighted_drifts(floors)
-        return (motion.bounds(self.tau, 6, range(floors), None, None, 4),
-                [b[0] for b in motion.bounds(self.tau, 4, None, None, drifts, 3)])
+        return (motion.bounds(self.tau, floor_order + 2, None, None, motion.modes.weighted_floors(floors), floor_order),
+                [b[0] for b in motion.bounds(self.tau, drift_order + 1, None, None, drifts, drift_order)])
 
     def derivatives(self, s, floors):
         """{floor: [x^(lo), ..., x^(hi-1)]} at s of the floors asked for ({floor: (lo, hi)}, hi <= 5)."""

@@ -2,7 +2,7 @@
 # class, the certification's cubics in C doubles.
 import cython
 
-cdef double REL, _TINY
+cdef double REL, _TINY, _SURE
 cdef Py_ssize_t _MAX_POINTS
 
 @cython.locals(best=cython.double, sg=cython.double, c0=cython.double, c1=cython.double, c2=cython.double,
@@ -24,6 +24,12 @@ cdef class Peaks:
                    ak=cython.double, jk=cython.double, sk=cython.double, xb=cython.double, vb=cython.double,
                    ab=cython.double, bound=cython.double)
     cpdef take(self, piece, double tau, double a_g)
+
+    @cython.locals(n=cython.Py_ssize_t, k=cython.Py_ssize_t, ih=list, vg=cython.double, drift=list, velocity=list,
+                   acceleration=list, below=cython.bint, xb=cython.double, h=cython.double, xk=cython.double,
+                   vk=cython.double, ak=cython.double, d=cython.double, u=cython.double, w=cython.double,
+                   slope=cython.double, curve=cython.double, end=cython.double, b=list, db=list, bk=list)
+    cdef bint _stays_below(self, piece, double tau, double a_g) except -1
 
     @cython.locals(top=list, old=cython.double)
     cdef _raise(self, Py_ssize_t kind, Py_ssize_t k, double f)

@@ -16,7 +16,9 @@ so the interval holds nothing above the running maximum once the better of the t
 below it (`_cubic_max`); else a Newton step on f' (the vertex of the nearer end's quadratic)
 proposes the next point, or the interval is halved.  Near a maximum Newton lands on it, and its
 negative curvature then clears the neighbourhood on both sides, so a new peak costs a few
-evaluations.  A quantity that the forward cubic from the piece's start clears over the whole
+evaluations.  First of all, a piece whose quantities all stay below their maxima by the first-order
+bound |f(s)| <= |f(0)| + s max|f'| is done with its start alone (most pieces, once the motion stops
+growing): no higher derivatives, no search.  A quantity that the forward cubic from the piece's start clears over the whole
 piece is not evaluated again, nor one that a later point clears for the rest of it.  Accepted excess: REL of the maximum (a peak is exact to that, far below the
 motion's own rounding).
 Plain Python (math): this ships inside the FMU.
@@ -27,6 +29,9 @@ from .params import ParameterError, check_finite
 
 REL = 1e-13  # relative excess over the running maximum an interval may hide
 _TINY = 1e-300
+#: a first-order bound clears a piece when, times this, it stays at or below the maximum: room for
+#: the rounding of the values a search of the piece would compute
+_SURE = 1.0 + 1e-12
 _MAX_POINTS = 400  # evaluations per piece before the rest of it is accepted (never reached in practice)
 
 
@@ -99,6 +104,9 @@ class Peaks:
         piece is not searched."""
         n, ih = self.n, self.inv_h
         vg = self.v_ground
+        if tau > 0.0 and self._stays_below(piece, tau, a_g):
+            self.v_ground = vg + a_g * tau
+            return
         x, v, acc, jerk, snap = piece.start()
         b, drift = piece.bounds()
         active, values = [], []
@@ -125,6 +133,38 @@ class Peaks:
         if active and tau > 0.0:
             self._scan(piece, active, values, tau, a_g)
         self.v_ground = vg + a_g * tau
+
+    def _stays_below(self, piece, tau, a_g):
+        """Raise the maxima to the piece's start; then whether every quantity stays at or below its
+        maximum over the piece by the first-order bound |f(s)| <= |f(0)| + s max|f'| (with room
+        _SURE for the rounding of the values a search would compute), so that no search could raise
+        it.  `piece` gives first() -> (x, v, acc) as start() gives them and slopes() -> (per floor
+        the bounds of |x''| and |x'''|, per storey the bound of its drift's first derivative) over
+        the piece."""
+        n, ih, vg = self.n, self.inv_h, self.v_ground
+        drift, velocity, acceleration = self.drift, self.velocity, self.acceleration
+        x, v, acc = piece.first()
+        b, db = piece.slopes()
+        below = True
+        xb = 0.0
+        for k in range(n):
+            h = ih[k]
+            xk, vk, ak = x[k], v[k], acc[k]
+            d = (xk - xb) * h if k else xk * h
+            u = vk + vg
+            w = ak + a_g
+            self._raise(0, k, d)
+            self._raise(1, k, u)
+            self._raise(2, k, w)
+            if below:
+                bk = b[k]
+                slope, curve = bk[0], bk[1]
+                end = abs(u + a_g * tau)  # |v_k + v_g| moves by at most tau max|x''| beside the ground's own
+                below = ((abs(d) + tau * db[k] * h) * _SURE <= drift[k]
+                         and ((abs(u) if abs(u) >= end else end) + tau * slope) * _SURE <= velocity[k]
+                         and (abs(w) + tau * curve) * _SURE <= acceleration[k])
+            xb = xk
+        return below
 
     def _raise(self, kind, k, f):
         """Raise the maximum of quantity (kind, k) to |f| if that is above it."""

@@ -18,7 +18,7 @@ cpdef list modal_loads(phi, m, forces, double ground, Py_ssize_t n)
 
 @cython.locals(floors=list, drifts=list, bounds=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t,
                r=cython.Py_ssize_t, total=cython.double, p=cython.double, a=cython.double, w=cython.double)
-cpdef tuple piece_bounds(phi, amps, powers, Py_ssize_t n)
+cpdef tuple piece_bounds(phi, amps, powers, Py_ssize_t n, Py_ssize_t floor_order, Py_ssize_t drift_order)
 
 @cython.locals(out=list, j=cython.Py_ssize_t, r=cython.Py_ssize_t, total=cython.double, p=cython.double,
                d=cython.double)

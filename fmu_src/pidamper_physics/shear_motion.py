@@ -240,14 +240,15 @@ def modal_loads(phi, m, forces, ground, n):
     return out
 
 
-def piece_bounds(phi, amps, powers, n):
-    """ShearPiece.bounds from the modes' amplitudes and powers w^j (j = 0..5)."""
+def piece_bounds(phi, amps, powers, n, floor_order, drift_order):
+    """ShearPiece.bounds (floor_order 4, drift_order 3) or slopes (2, 1) from the modes' amplitudes
+    and powers w^j (j = 0..5)."""
     floors = []
     drifts = []
     for k in range(n):
         row = phi[k]
         bounds = []
-        for j in range(4, 6):
+        for j in range(floor_order, floor_order + 2):
             total = 0.0
             for r in range(n):
                 p, a, w = row[r], amps[r], powers[r][j]
@@ -256,7 +257,7 @@ def piece_bounds(phi, amps, powers, n):
         floors.append(bounds)
         total = 0.0
         for r in range(n):
-            p, a, w = row[r] - (phi[k - 1][r] if k else 0.0), amps[r], powers[r][3]
+            p, a, w = row[r] - (phi[k - 1][r] if k else 0.0), amps[r], powers[r][drift_order]
             total += abs(p) * a * w
         drifts.append(total)
     return floors, drifts
@@ -305,12 +306,24 @@ class ShearPiece:
     def bounds(self):
         """(per floor the bounds of |x^(4)| and |x^(5)|, per storey the bound of its drift's third
         derivative) over the piece."""
+        return self._bounds(4, 3)
+
+    def first(self):
+        """(x, v, acc) of the floors at the piece's start, as start() gives them."""
+        return self.start()[:3]
+
+    def slopes(self):
+        """(per floor the bounds of |x''| and |x'''|, per storey the bound of its drift's first
+        derivative) over the piece."""
+        return self._bounds(2, 1)
+
+    def _bounds(self, floor_order, drift_order):
         m = self.motion
         phi, n, modes = m.b.shapes, m.n, m.modes
         # each mode's free part is exp(-s tau) (A cos + B sin): |d^j| <= sqrt(A^2 + B^2) w^j
         amps = [math.hypot(mode.a, mode.b) for mode in modes]
         powers = [[mode.w ** j for j in range(6)] for mode in modes]  # w^j of each mode
-        return piece_bounds(phi, amps, powers, n)
+        return piece_bounds(phi, amps, powers, n, floor_order, drift_order)
 
     def derivatives(self, s, floors):
         """{floor: [x^(lo), ..., x^(hi-1)]} at s of the floors asked for ({floor: (lo, hi)}, hi <= 5)."""

@@ -504,15 +504,29 @@ class RegimePiece:
         return ([d[k][0] for k in range(n)], [d[k][1] for k in range(n)], [d[k][2] for k in range(n)],
                 [d[k][3] for k in range(n)], [d[k][4] for k in range(n)])
 
+    def first(self):
+        """(x, v, acc) of the floors at the piece's start, as start() gives them."""
+        d, n = self.guards.floors, self.n
+        return [d[k][0] for k in range(n)], [d[k][1] for k in range(n)], [d[k][2] for k in range(n)]
+
     def bounds(self):
         """(per floor the bounds of |x^(4)| and |x^(5)|, per storey the bound of its drift's third
         derivative) over the piece."""
+        return self._bounds(4, 3)
+
+    def slopes(self):
+        """(per floor the bounds of |x''| and |x'''|, per storey the bound of its drift's first
+        derivative) over the piece."""
+        return self._bounds(2, 1)
+
+    def _bounds(self, floor_order, drift_order):
         motion, n, tau, guards = self.motion, self.n, self.tau, self.guards
         if tau == guards.span:  # the guards' bounds are over this piece (each order's alone)
-            drifts = [b[3] for b in guards.drift_bounds]
+            drifts = [b[drift_order] for b in guards.drift_bounds]
         else:
-            drifts = [b[0] for b in motion.bounds(tau, 4, None, None, motion.modes.weighted_drifts(n), 3)]
-        return motion.bounds(tau, 6, range(n), None, None, 4), drifts
+            drifts = [b[0] for b in motion.bounds(tau, drift_order + 1, None, None, motion.modes.weighted_drifts(n),
+                                                  drift_order)]
+        return motion.bounds(tau, floor_order + 2, None, None, motion.modes.weighted_floors(n), floor_order), drifts
 
     def derivatives(self, s, floors):
         return self.motion.derivatives(s, floors)

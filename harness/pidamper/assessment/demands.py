@@ -53,12 +53,12 @@ def run_demands(values, accel, dt, period, step=None, fmu=None, record="record")
     output turned 1), but only the few outputs the demands need are read at each step: the same
     demands as demands_of(run(...).data) to the last bit (tests/test_demands.py), at a fraction of the
     host's cost.  A refused FMI call raises simulation.FmuError with what the model logged."""
-    import fmpy
     from fmpy.fmi1 import FMICallException
 
     from ..running.fmu import find_fmu
     from ..running.instance import FmuInstance
     from ..running.simulation import FmuError, FmuMessages
+    from ..running.unpacked import unpacked
     from ..running.variants import for_model, storeys_of
 
     storeys = values["storeys"]
@@ -67,7 +67,7 @@ def run_demands(values, accel, dt, period, step=None, fmu=None, record="record")
     n = int(round(times[-1] / h))
     inputs = np.interp(h * np.arange(n + 1), times, ground).tolist()  # as pidamper.run samples a table
     path = str(find_fmu(fmu, storeys=storeys_of(values)))
-    model_values = for_model(fmpy.read_model_description(path).modelName, dict(values))
+    model_values = for_model(unpacked(path)[1].modelName, dict(values))
     messages = FmuMessages()
     logger = lambda status, text: messages(None, None, status, None, text)  # noqa: E731
     try:

@@ -1,16 +1,15 @@
-"""One FMU instance through fmpy's FMU2Slave: unpacked, instantiated, initialised with start values,
-set and read by variable name, stepped, and freed as the FMI standard allows (after fmi2Fatal only the
-files are removed).  Every harness driver of an FMU builds on it (stepper.FmuStepper, the
+"""One FMU instance through fmpy's FMU2Slave: instantiated from the FMU unpacked once per process
+(unpacked.py), initialised with start values, set and read by variable name, stepped, and freed as
+the FMI standard allows (after fmi2Fatal nothing more is called).  Every harness driver of an FMU builds on it (stepper.FmuStepper, the
 co-simulation masters, the benchmarks and the refusal checks)."""
-import shutil
 from ctypes import byref
 
-import fmpy
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import (FMU2Slave, calloc, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
                        fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, fmi2Fatal, free)
 from fmpy.logging import addLoggerProxy
 
+from .unpacked import unpacked
 from .variants import for_model
 
 
@@ -34,11 +33,10 @@ class FmuInstance:
     fmpy's FMICallException; a failed initialization frees the instance before it raises."""
 
     def __init__(self, fmu_path, start_values=None, start_time=0.0, instance_name="pidamper", logger=None):
-        md = fmpy.read_model_description(str(fmu_path))
+        self.dir, md = unpacked(fmu_path)
         self.vars = {v.name: v for v in md.modelVariables}
         if "storeys" not in self.vars:  # (a build before the split into one FMU per model takes them as given)
             start_values = for_model(md.modelName, start_values or {})
-        self.dir = fmpy.extract(str(fmu_path))
         self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self.dir,
                              modelIdentifier=md.coSimulation.modelIdentifier, instanceName=instance_name)
         self.t = float(start_time)
@@ -91,9 +89,9 @@ class FmuInstance:
             raise
 
     def close(self):
-        """Terminate and free the instance; after fmi2Fatal only the files are removed (the
-        standard forbids further calls, and pythonfmu 0.7 has already released its objects:
-        freeing the instance again would free them twice)."""
+        """Terminate and free the instance; after fmi2Fatal nothing is called (the standard forbids
+        further calls, and pythonfmu 0.7 has already released its objects: freeing the instance
+        again would free them twice).  The unpacked files stay for the process's next instance."""
         if self._closed:
             return
         self._closed = True
@@ -103,7 +101,6 @@ class FmuInstance:
             except FMICallException:
                 pass
             self.fmu.freeInstance()
-        shutil.rmtree(self.dir, ignore_errors=True)
 
     def __enter__(self):
         return self

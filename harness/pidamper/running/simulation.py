@@ -21,6 +21,7 @@ from fmpy.fmi1 import FMICallException
 from pidamper_physics import Params
 
 from .fmu import find_fmu
+from .unpacked import unpacked
 from .variants import for_model, storeys_of
 from ..forcing import Forcing, none
 
@@ -131,7 +132,8 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
     start_values.update(forcing.start_values)
     extra_outputs = tuple(extra_outputs) + tuple(o for o in building_outputs(start_values) if o not in extra_outputs)
     path = str(find_fmu(fmu, storeys=storeys_of(start_values)))
-    model_values = for_model(fmpy.read_model_description(path).modelName, start_values)
+    folder, md = unpacked(path)  # once per process and FMU file: a study's runs share it
+    model_values = for_model(md.modelName, start_values)
     n = int(round((stop_time - start_time) / output_interval))
     grid = start_time + output_interval * np.arange(n + 1)
     signal = forcing.input_array(grid)
@@ -158,7 +160,7 @@ def run(parameters=None, forcing=None, stop_time=20.0, output_interval=0.01, fmu
 
     cpu = time.process_time()
     try:
-        data = fmpy.simulate_fmu(path, start_time=start_time, stop_time=stop_time, output_interval=output_interval,
+        data = fmpy.simulate_fmu(folder, model_description=md, start_time=start_time, stop_time=stop_time, output_interval=output_interval,
                                  start_values=model_values, input=signal, output=list(OUTPUTS) + list(extra_outputs),
                                  step_finished=watch, debug_logging=True, logger=messages)
     except FMICallException as err:
