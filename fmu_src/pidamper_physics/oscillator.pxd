@@ -1,6 +1,7 @@
 # Types for the compiled build of oscillator.py (Cython, pure-Python mode): the undamped closed form
-# (the pendulum's linear level) as a typed class in C doubles; its methods return C tuples (structs of
-# doubles) to typed callers, Python tuples to Python ones.
+# (the pendulum's linear level) and the damped one (a building's modes, the unit's particle) as typed
+# classes in C doubles; their methods return C tuples (structs of doubles) to typed callers, Python
+# tuples to Python ones.
 import cython
 from libc cimport math as _libm
 
@@ -40,3 +41,14 @@ cdef class Oscillator:
 
 @cython.locals(osc=Oscillator)
 cpdef Oscillator oscillator(double w, double x0, double v0, double c, double a, double om, double psi)
+
+
+cdef class DampedOscillator:
+    cdef public double w, ww, s, wd, p, q0, v0, a, b, k
+
+    @cython.locals(ww=cython.double, s=cython.double, wd=cython.double, a=cython.double)
+    cpdef start(self, double q0, double v0, double p)
+
+    @cython.locals(s=cython.double, v0=cython.double, half=cython.double, sh=cython.double, sn=cython.double,
+                   omc=cython.double, ec_m1=cython.double, es=cython.double, em1=cython.double)
+    cpdef (double, double) at(self, double tau)

@@ -29,7 +29,7 @@ exact for every Omega >= 0: at exact resonance (secular growth) and next to it (
 0/0 cancellation).
 """
 import math
-import math as _libm  # sin, cos: in the compiled build libc's (oscillator.pxd: from libc cimport math as _libm), the
+import math as _libm  # sin, cos, expm1: in the compiled build libc's (oscillator.pxd: from libc cimport math as _libm), the
 # very functions CPython's math.sin and math.cos call (math.hypot is CPython's own: kept from math)
 
 _hypot = math.hypot  # bound once: a module attribute costs a lookup per call
@@ -189,7 +189,7 @@ class DampedOscillator:
         if s == 0.0:
             ec_m1, es = -omc, sn
         else:
-            em1 = math.expm1(-s * tau)
+            em1 = _libm.expm1(-s * tau)
             ec_m1 = em1 * (1.0 - omc) - omc  # exp(-s tau) cos(wd tau) - 1
             es = (1.0 + em1) * sn
         return self.q0 + self.a * ec_m1 + self.b * es, v0 + v0 * ec_m1 - self.k * es

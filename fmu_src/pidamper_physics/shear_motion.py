@@ -52,6 +52,7 @@ class ShearMotion:
             raise ParameterError("x0, v0", (x0, v0), f"they need {n} entries, one per floor")
         self.t = check_finite("start time", t0)
         self.modes = [DampedOscillator(w, building.zeta) for w in building.omegas]
+        self.powers = [[mode.w ** j for j in range(6)] for mode in self.modes]  # w^j of each mode (bounds)
         self.set_floors(x0, v0)
         self.peaks = Peaks(building.heights)
         self.still = False  # the last step found the building at rest and changed no output
@@ -310,7 +311,10 @@ class ShearPiece:
 
     def first(self):
         """(x, v, acc) of the floors at the piece's start, as start() gives them."""
-        return self.start()[:3]
+        n, phi = self.motion.n, self.motion.b.shapes
+        q = self._modal(0.0, 3)
+        d = [floor_derivatives(phi[k], q, 0, 3) for k in range(n)]
+        return [d[k][0] for k in range(n)], [d[k][1] for k in range(n)], [d[k][2] for k in range(n)]
 
     def slopes(self):
         """(per floor the bounds of |x''| and |x'''|, per storey the bound of its drift's first
@@ -322,11 +326,10 @@ class ShearPiece:
         phi, n, modes = m.b.shapes, m.n, m.modes
         # each mode's free part is exp(-s tau) (A cos + B sin): |d^j| <= sqrt(A^2 + B^2) w^j
         amps = [math.hypot(mode.a, mode.b) for mode in modes]
-        powers = [[mode.w ** j for j in range(6)] for mode in modes]  # w^j of each mode
-        return piece_bounds(phi, amps, powers, n, floor_order, drift_order)
+        return piece_bounds(phi, amps, m.powers, n, floor_order, drift_order)
 
     def derivatives(self, s, floors):
         """{floor: [x^(lo), ..., x^(hi-1)]} at s of the floors asked for ({floor: (lo, hi)}, hi <= 5)."""
         phi = self.motion.b.shapes
-        q = self._modal(s, 5)
+        q = self._modal(s, max(hi for _, hi in floors.values()))
         return {k: floor_derivatives(phi[k], q, lo, hi) for k, (lo, hi) in floors.items()}
