@@ -128,7 +128,9 @@ def render(args, builds, core, profiles, fmus, frontier, wall, workers):
         "The last two rows come from the pages that measure them with their own commands: "
         "[docs/yielding](../yielding/README.md) (`python -m pidamper.benchmarks.yielding_peer`) and "
         "[docs/assessment](../assessment/README.md) (`pidamper assess studies/yielding-three-storey.toml "
-        "--out docs/assessment --workers 2`: the sum of its stages' wall times).",
+        "--out docs/assessment --workers 2`: the sum of its stages' wall times).  docs/yielding times each run "
+        "of our FMU as the harness's studies run it: unpacked and its description read once per process "
+        "(its one-off cost is stated on that page), instantiated, initialised and stepped per run.",
         "",
         "## The core per communication step of 0.01 s, every build",
         "",
