@@ -85,6 +85,7 @@ def test_a_stale_or_broken_compiled_build_falls_back_to_the_plain_python(tmp_pat
     assert build.startswith("pure Python (an extension did not load") and where.endswith("modal.py")
 
 
+@needs_compiler
 def test_an_edited_shared_typing_file_regenerates_the_c_of_the_typed_modules(tmp_path):
     """Cythonize's timestamps miss a shared .pxd cimported as `from . cimport _clist`: the compile
     step removes the generated C of every module whose sources or typing changed since it was made,
