@@ -1,5 +1,5 @@
 """Running the FMUs: locate or build the one of a model (`fmu`), fit start values to it (`variants`),
-one FMU wrapper (`instance`: unpack, instantiate,
+the FMU unpacked once per process (`unpacked`), one FMU wrapper (`instance`: instantiate,
 initialise, set/get by name, step, free), whole runs with fmpy against a forcing signal
 (`simulation`), step-by-step drivers with save and restore over the FMU or the physics core
 (`stepper`), and calls in a child process for checks that may crash (`isolated`).  It may import
