@@ -132,8 +132,9 @@ def _forget_changed_c(folder, work, package, names, select):
     the sources, and new directives.  Returns what the C will be made from."""
     record = work / GENERATED
     made = dict(line.split(" ", 1) for line in record.read_text().splitlines()) if record.is_file() else {}
-    current = {name: f"{select.digest(folder / f'{name}.py')} {select.typing(folder, name)} "
-                     f"{hashlib.sha256(settings().encode()).hexdigest()[:16]}" for name in names}
+    made_with = hashlib.sha256(settings().encode()).hexdigest()[:16]
+    current = {name: f"{select.digest(folder / f'{name}.py')} {select.typing(folder, name)} {made_with}"
+               for name in names}
     for name, digests in current.items():
         if made.get(name) != digests:
             (work / package / f"{name}.c").unlink(missing_ok=True)

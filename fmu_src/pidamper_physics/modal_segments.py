@@ -243,17 +243,9 @@ class ModalPiece:
         s, c = seg.motion.load(0.0)
         return chain(seg.z0, self.n, seg.K, seg.C, seg.b, self.j, self.a, seg.om, s, c, False)[:3]
 
-    def bounds(self):
-        """(per floor the bounds of |x^(4)| and |x^(5)|, per storey the bound of its drift's third
-        derivative) over the piece."""
-        return self._bounds(4, 3)
-
-    def slopes(self):
-        """(per floor the bounds of |x''| and |x'''|, per storey the bound of its drift's first
-        derivative) over the piece."""
-        return self._bounds(2, 1)
-
-    def _bounds(self, floor_order, drift_order):
+    def bounds(self, floor_order, drift_order):
+        """(per floor the bounds of |x^(floor_order)| and |x^(floor_order + 1)|, per storey the bound
+        of its drift's derivative of order drift_order) over the piece."""
         motion, floors = self.seg.motion, self.floors
         drifts = motion.modes.weighted_drifts(floors)
         return (motion.bounds(self.tau, floor_order + 2, None, None, motion.modes.weighted_floors(floors), floor_order),

@@ -18,9 +18,10 @@ proposes the next point, or the interval is halved.  Near a maximum Newton lands
 negative curvature then clears the neighbourhood on both sides, so a new peak costs a few
 evaluations.  First of all, a piece whose quantities all stay below their maxima by the first-order
 bound |f(s)| <= |f(0)| + s max|f'| is done with its start alone (most pieces, once the motion stops
-growing): no higher derivatives, no search.  A quantity that the forward cubic from the piece's start clears over the whole
-piece is not evaluated again, nor one that a later point clears for the rest of it.  Accepted excess: REL of the maximum (a peak is exact to that, far below the
-motion's own rounding).
+growing): no higher derivatives, no search.  A quantity that the forward cubic from the piece's
+start clears over the whole piece is not evaluated again, nor one that a later point clears for the
+rest of it.  Accepted excess: REL of the maximum (a peak is exact to that, far below the motion's own
+rounding).
 Plain Python (math): this ships inside the FMU.
 """
 import math
@@ -98,7 +99,7 @@ class Peaks:
         """Raise the maxima over a piece of length tau >= 0 [s] under the held ground acceleration
         a_g [m/s2], then move the ground's velocity on.  `piece` gives, relative to the ground,
         start() -> (x, v, acc, jerk, snap) of the floors at its start (floor 1 first; extra entries
-        ignored), bounds() -> (per floor the bounds of |x_k^(4)| and |x_k^(5)| over the piece, per
+        ignored), bounds(4, 3) -> (per floor the bounds of |x_k^(4)| and |x_k^(5)| over the piece, per
         storey the bound of the third derivative of its drift x_k - x_(k-1)), and
         derivatives(s, {k: (lo, hi)}) -> {k: [x_k^(lo), ..., x_k^(hi-1)]} at s.  A quantity that the forward cubic from the start clears over the whole
         piece is not searched."""
@@ -108,7 +109,7 @@ class Peaks:
             self.v_ground = vg + a_g * tau
             return
         x, v, acc, jerk, snap = piece.start()
-        b, drift = piece.bounds()
+        b, drift = piece.bounds(4, 3)
         active, values = [], []
         xb = vb = ab = 0.0  # the floor below's (the ground's: unused)
         for k in range(n):
@@ -138,13 +139,13 @@ class Peaks:
         """Raise the maxima to the piece's start; then whether every quantity stays at or below its
         maximum over the piece by the first-order bound |f(s)| <= |f(0)| + s max|f'| (with room
         _SURE for the rounding of the values a search would compute), so that no search could raise
-        it.  `piece` gives first() -> (x, v, acc) as start() gives them and slopes() -> (per floor
-        the bounds of |x''| and |x'''|, per storey the bound of its drift's first derivative) over
-        the piece."""
+        it.  `piece` gives first() -> (x, v, acc) as start() gives them and bounds(2, 1) -> (per
+        floor the bounds of |x''| and |x'''|, per storey the bound of its drift's first derivative)
+        over the piece."""
         n, ih, vg = self.n, self.inv_h, self.v_ground
         drift, velocity, acceleration = self.drift, self.velocity, self.acceleration
         x, v, acc = piece.first()
-        b, db = piece.slopes()
+        b, db = piece.bounds(2, 1)
         below = True
         xb = 0.0
         for k in range(n):

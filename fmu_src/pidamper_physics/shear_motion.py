@@ -242,7 +242,7 @@ def modal_loads(phi, m, forces, ground, n):
 
 
 def piece_bounds(phi, amps, powers, n, floor_order, drift_order):
-    """ShearPiece.bounds (floor_order 4, drift_order 3) or slopes (2, 1) from the modes' amplitudes
+    """ShearPiece.bounds(floor_order, drift_order) (4, 3 or 2, 1) from the modes' amplitudes
     and powers w^j (j = 0..5)."""
     floors = []
     drifts = []
@@ -304,11 +304,6 @@ class ShearPiece:
         d = self.derivatives(0.0, {k: (0, 5) for k in range(n)})
         return tuple([d[k][j] for k in range(n)] for j in range(5))
 
-    def bounds(self):
-        """(per floor the bounds of |x^(4)| and |x^(5)|, per storey the bound of its drift's third
-        derivative) over the piece."""
-        return self._bounds(4, 3)
-
     def first(self):
         """(x, v, acc) of the floors at the piece's start, as start() gives them."""
         n, phi = self.motion.n, self.motion.b.shapes
@@ -316,12 +311,9 @@ class ShearPiece:
         d = [floor_derivatives(phi[k], q, 0, 3) for k in range(n)]
         return [d[k][0] for k in range(n)], [d[k][1] for k in range(n)], [d[k][2] for k in range(n)]
 
-    def slopes(self):
-        """(per floor the bounds of |x''| and |x'''|, per storey the bound of its drift's first
-        derivative) over the piece."""
-        return self._bounds(2, 1)
-
-    def _bounds(self, floor_order, drift_order):
+    def bounds(self, floor_order, drift_order):
+        """(per floor the bounds of |x^(floor_order)| and |x^(floor_order + 1)|, per storey the bound
+        of its drift's derivative of order drift_order) over the piece."""
         m = self.motion
         phi, n, modes = m.b.shapes, m.n, m.modes
         # each mode's free part is exp(-s tau) (A cos + B sin): |d^j| <= sqrt(A^2 + B^2) w^j

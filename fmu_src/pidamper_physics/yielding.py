@@ -509,17 +509,9 @@ class RegimePiece:
         d, n = self.guards.floors, self.n
         return [d[k][0] for k in range(n)], [d[k][1] for k in range(n)], [d[k][2] for k in range(n)]
 
-    def bounds(self):
-        """(per floor the bounds of |x^(4)| and |x^(5)|, per storey the bound of its drift's third
-        derivative) over the piece."""
-        return self._bounds(4, 3)
-
-    def slopes(self):
-        """(per floor the bounds of |x''| and |x'''|, per storey the bound of its drift's first
-        derivative) over the piece."""
-        return self._bounds(2, 1)
-
-    def _bounds(self, floor_order, drift_order):
+    def bounds(self, floor_order, drift_order):
+        """(per floor the bounds of |x^(floor_order)| and |x^(floor_order + 1)|, per storey the bound
+        of its drift's derivative of order drift_order) over the piece."""
         motion, n, tau, guards = self.motion, self.n, self.tau, self.guards
         if tau == guards.span:  # the guards' bounds are over this piece (each order's alone)
             drifts = [b[drift_order] for b in guards.drift_bounds]

@@ -1,7 +1,7 @@
 """One FMU instance through fmpy's FMU2Slave: instantiated from the FMU unpacked once per process
 (unpacked.py), initialised with start values, set and read by variable name, stepped, and freed as
-the FMI standard allows (after fmi2Fatal nothing more is called).  Every harness driver of an FMU builds on it (stepper.FmuStepper, the
-co-simulation masters, the benchmarks and the refusal checks)."""
+the FMI standard allows (after fmi2Fatal nothing more is called).  Every harness driver of an FMU
+builds on it (stepper.FmuStepper, the co-simulation masters, the benchmarks and the refusal checks)."""
 from ctypes import byref
 
 from fmpy.fmi1 import FMICallException
