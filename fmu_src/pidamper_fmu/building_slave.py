@@ -20,8 +20,6 @@ Defaults: 1e5 kg floors and 8e7 N/m storeys of 3 m (three storeys: first period 
 damped_building_slave.py).
 """
 import uuid
-from operator import mul
-
 from pythonfmu import Real
 from pythonfmu.default_experiment import DefaultExperiment
 
@@ -107,6 +105,7 @@ class ShearBuildingSlave(ComponentSlave):
         self._drift = None  # the DriftMonitor of drift_limit, made with the core
         self._names = ([f"F[{k}]" for k in range(1, n + 1)], [f"J[{k}]" for k in range(1, n + 1)],
                        [f"t_J[{k}]" for k in range(1, n + 1)])
+        self._loads = None  # (forces, impulses) of the inputs as they are: _held_loads()
 
     def _build_core(self):
         values, n = self._values, self.STOREYS
@@ -126,6 +125,7 @@ class ShearBuildingSlave(ComponentSlave):
         return state
 
     def _restore(self, state):
+        self._loads = None
         if isinstance(state, dict):
             state = dict(state)
             warned = state.pop("_drift_warned", None)
@@ -135,33 +135,30 @@ class ShearBuildingSlave(ComponentSlave):
         if self._initialized and self._drift is not None:
             self._drift.warned = warned
 
-    def _forces(self):
-        values = self._values
-        return [values[name] for name in self._names[0]]
+    def _input_changed(self, old, value):
+        super()._input_changed(old, value)
+        self._loads = None
+
+    def _held_loads(self):
+        """(the floor forces [N], the impulses (t_J [s], floor index, J [N s]) with J != 0) of the
+        inputs as they are, made once until an input is set."""
+        loads = self._loads
+        if loads is None:
+            values = self._values
+            forces, impulses, times = ([values[name] for name in names] for names in self._names)
+            loads = self._loads = (forces, [(times[k], k, j) for k, j in enumerate(impulses) if j != 0.0])
+        return loads
 
     def _advance(self, core, t_end):
-        values = self._values
-        names_j, names_t = self._names[1], self._names[2]
-        impulses = [(values[names_t[k]], k, values[names_j[k]]) for k in range(core.n) if values[names_j[k]] != 0.0]
-        core.advance(t_end, self._forces(), values["a_g"], impulses)
+        forces, impulses = self._held_loads()
+        core.advance(t_end, forces, self._values["a_g"], impulses)
         if self._drift is not None:
             warning = self._drift.check(core.t, core.peaks)
             if warning:
                 self._warn(warning)
 
     def _computed(self, core):
-        x, v = core.floors()
-        a = core.absolute_accelerations(self._forces(), x, v)
-        pk = core.peaks
-        if isinstance(core, ShearMotion):  # elastic storeys
-            b = core.b
-            energy = b.energy(x, v)
-            return (*x, *v, *a, *b.drift_ratios(x), *pk.drift, *pk.velocity, *pk.acceleration,
-                    *map(mul, b.stiffnesses, b.drifts(x)), *([0.0] * core.n), 0.0, 0, energy,
-                    core.energy0 + core.work_in - energy, core.work_in, b.base_shear(x, v))
-        return (*x, *v, *a, *core.b.drift_ratios(x), *pk.drift, *pk.velocity, *pk.acceleration,
-                *core.storey_forces(), *core.plastic_drifts(), core.hysteretic, core.collapsed, core.energy(),
-                core.viscous, core.work_in, core.base_shear())
+        return core.observables(self._held_loads()[0])
 
 
 def _model(n):

@@ -241,6 +241,20 @@ class FmiEntry:
             return 2
         return 1 if self.log_queue else 0
 
+    def _native_set_input(self, vr, value):
+        """fmi2SetReal of one Real input, called by the native layer directly (it checked the value
+        reference and the calling sequence): 0 set, 1 set with messages queued, 2 refused (its
+        message queued)."""
+        self._flat = None
+        try:
+            self.vars[vr].setter(value)
+        except Exception as err:
+            self._report(err)
+            return 2
+        finally:
+            self._flat = None
+        return 1 if self.log_queue else 0
+
     def _check_time(self, current_time, t, step_size):
         """Refuse a step that does not start at the FMU's time t (to TIME_TOLERANCE)."""
         lag = current_time - t

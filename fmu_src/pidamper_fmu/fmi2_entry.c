@@ -23,6 +23,8 @@
  *   this layer, and no view into memory this layer frees outlives an instance.
  * - Steps.  fmi2DoStep calls the model's step method directly (one Python call); the model's
  *   messages still travel through pythonfmu's log queue, flushed when there are any.
+ * - Inputs.  fmi2SetReal of Real inputs only calls the model's input setter directly (one Python
+ *   call per value, after the checks here); any other write goes through pythonfmu.
  * - Messages reach the host's logger as a "%s" argument, never as a format, when the host turned
  *   logging on (as pythonfmu: fmpy's logger proxy keeps one global target, which dangles after a
  *   simulate_fmu call, so an FMU that logs with logging off can crash fmpy hosts).  Only a failed
@@ -86,7 +88,7 @@ typedef struct {
      * model's buffer, which it writes after each step, while attached (the reference to `model`
      * keeps it alive), else `own`; and what of it is current */
     int attached;
-    PyObject *model, *step; /* the Python model object and its _native_step (owned references) */
+    PyObject *model, *step, *set_input; /* the model, its _native_step and _native_set_input (owned) */
     double *real;
     double own[N_VARS];
     fmi2Integer integer[N_VARS];
@@ -114,15 +116,16 @@ static struct {
     PyObject *(*getattr)(PyObject *, const char *);
     void (*err_clear)(void);
     PyObject *(*vectorcall)(PyObject *, PyObject *const *, size_t, PyObject *);
+    PyObject *(*long_from)(long);
 } py;
 
 static int resolve_python_api(void) {
     void **slots[] = {(void **)&py.gil_ensure, (void **)&py.gil_release, (void **)&py.float_from,
                       (void **)&py.call_method, (void **)&py.as_pointer, (void **)&py.as_long, (void **)&py.incref,
-                      (void **)&py.decref, (void **)&py.getattr, (void **)&py.err_clear};
+                      (void **)&py.decref, (void **)&py.getattr, (void **)&py.err_clear, (void **)&py.long_from};
     const char *names[] = {"PyGILState_Ensure", "PyGILState_Release", "PyFloat_FromDouble", "PyObject_CallMethod",
                            "PyLong_AsVoidPtr", "PyLong_AsLong", "Py_IncRef", "Py_DecRef", "PyObject_GetAttrString",
-                           "PyErr_Clear"};
+                           "PyErr_Clear", "PyLong_FromLong"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
         if (!(*slots[k] = dlsym(RTLD_DEFAULT, names[k]))) return 0;
     *(void **)&py.vectorcall = dlsym(RTLD_DEFAULT, "PyObject_Vectorcall");
@@ -496,10 +499,11 @@ static void detach(Instance *inst) {
     if (inst->model) {
         PyGILState_STATE gil = py.gil_ensure();
         py.decref(inst->step);
+        py.decref(inst->set_input);
         py.decref(inst->model);
         py.gil_release(gil);
     }
-    inst->model = inst->step = NULL;
+    inst->model = inst->step = inst->set_input = NULL;
 }
 
 /* Take the model's buffer: the model's id() is the value of its hidden String (read only), and
@@ -528,6 +532,8 @@ static void attach(Instance *inst) {
         inst->model = model;
         inst->step = py.vectorcall ? py.getattr(model, "_native_step") : NULL;
         py.err_clear();
+        inst->set_input = py.vectorcall ? py.getattr(model, "_native_set_input") : NULL;
+        py.err_clear();
         inst->real = buffer;
         inst->attached = 1;
     }
@@ -550,6 +556,34 @@ static fmi2Status direct_step(Instance *inst, double t, double h) {
     if (code < 0) return refuse(inst, "fmi2DoStep: the model's step raised past its own guard (a bug)");
     if (code > 0) inner.fmi2GetReal(inst->inner, NULL, 0, NULL);
     return settle(inst, code == 2 ? fmi2Error : fmi2OK);
+}
+
+/* fmi2SetReal of Real inputs only (checked here), one direct Python call per value: each answers 0 set,
+ * 1 set with messages queued, 2 refused (message queued; the values after it are not set, as
+ * pythonfmu's path). */
+static fmi2Status direct_set(Instance *inst, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
+    long code = 0, queued = 0;
+    PyGILState_STATE gil = py.gil_ensure();
+    for (size_t k = 0; k < nvr && code != 2 && code >= 0; k++) {
+        PyObject *args[2] = {py.long_from((long)vr[k]), py.float_from(value[k])};
+        PyObject *r = args[0] && args[1] ? py.vectorcall(inst->set_input, args, 2, NULL) : NULL;
+        code = r ? py.as_long(r) : -1;
+        if (!r) py.err_clear();
+        if (code > 0) queued = 1;
+        py.decref(r);
+        py.decref(args[0]);
+        py.decref(args[1]);
+    }
+    py.gil_release(gil);
+    if (code < 0) return refuse(inst, "fmi2SetReal: the model's input setter raised past its own guard (a bug)");
+    if (queued) inner.fmi2GetReal(inst->inner, NULL, 0, NULL);
+    return code == 2 ? fmi2Error : fmi2OK;
+}
+
+static int inputs_only(const fmi2ValueReference vr[], size_t nvr) {
+    for (size_t k = 0; k < nvr; k++)
+        if (VAR_KIND[vr[k]] != KIND_INPUT) return 0;
+    return 1;
 }
 
 /* After a step the model wrote: Integer values arrive as doubles. */
@@ -825,7 +859,9 @@ static fmi2Status written(Instance *inst, const fmi2ValueReference vr[], size_t 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
     ENTER(SETTABLE, "fmi2SetReal")
     fmi2Status s = prepare_write(inst, vr, nvr, value, 'R', "fmi2SetReal");
-    return s != fmi2OK ? s : written(inst, vr, nvr, inner.fmi2SetReal(inst->inner, vr, nvr, value));
+    if (s != fmi2OK) return s;
+    return written(inst, vr, nvr, inst->set_input && inputs_only(vr, nvr) ? direct_set(inst, vr, nvr, value)
+                                                                         : inner.fmi2SetReal(inst->inner, vr, nvr, value));
 }
 
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {

@@ -158,16 +158,9 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         return out + self._building_outputs(c) if self.STOREYS else out
 
     def _building_outputs(self, c):
-        """floor[k].x, floor[k].a, storey[k].drift, base_shear, the drift ratios and the running
-        maxima (particle_tables.building_outputs)."""
-        xs, accs, drifts, shear = c.building_outputs(self.F, self.a_g)
-        model = c.model
-        ratios, drift_max, v_max, a_max = model.peak_outputs(drifts)
-        forces, zero_force = model.storey_outputs(c.x, c.v)
-        storeys = model.storeys
-        hysteretic, collapsed = (0.0, 0) if storeys is None else (storeys.hysteretic, storeys.collapsed)
-        return (*xs, *accs, *drifts, shear, *ratios, *drift_max, *v_max, *a_max, *forces, *zero_force, hysteretic,
-                collapsed)
+        """floor[k].x, floor[k].a, storey[k].drift, base_shear, the drift ratios, the running
+        maxima and the storeys' outputs (particle_tables.building_outputs)."""
+        return tuple(c.building_observables(self.F, self.a_g))
 
     # ---- per-step impact record -------------------------------------------------------
 

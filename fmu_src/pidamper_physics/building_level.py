@@ -129,13 +129,6 @@ class BuildingModel(LevelModel):
         if self.storeys.decide(b.drifts(xs), b.drifts(vs)):
             self._regime()
 
-    def storey_outputs(self, x, v):
-        """(the bilinear springs' forces [N], the drifts of zero spring force [m]) per storey."""
-        d = self.p.building.drifts(self.floors(x, v)[0])
-        if self.storeys is None:
-            return [k * di for k, di in zip(self.p.building.stiffnesses, d)], [0.0] * self.n
-        return self.storeys.forces(d), self.storeys.zero_force_drifts(d)
-
     # ---- state ------------------------------------------------------------------------
 
     def floors(self, x, v):
@@ -318,6 +311,37 @@ class BuildingModel(LevelModel):
         n, C = self.n, b.C
         shear = _total(self.storeys.restoring(drifts)) + _matrix_sum(C, vs, None, None, n)
         return xs, acc, drifts, shear
+
+    def building_observables(self, x, v, y, u, side, f, ground):
+        """building_outputs, peak_outputs and the storeys' outputs in one flat list, the floors and the
+        drifts taken once: the floor displacements, absolute accelerations and storey drifts, the
+        base shear, the drift ratios, the running maxima of |drift ratio|, |absolute velocity|
+        and |absolute acceleration|, the springs' forces and the drifts of zero spring force, the
+        hysteretic energy and collapsed (0 / 1) [m, m/s2, m, N, 1, 1, m/s, m/s2, N, m, J, 1]."""
+        b = self.p.building
+        xs, vs = self.floors(x, v)
+        acc = self._accelerations(x, v, y, u, side, f, ground)
+        drifts = b.drifts(xs)
+        storeys, n = self.storeys, self.n
+        out = xs + [a + ground for a in acc] + drifts
+        if storeys is None:
+            out.append(b.base_shear(xs, vs))
+        else:
+            out.append(_total(storeys.restoring(drifts)) + _matrix_sum(b.C, vs, None, None, n))
+        out += [d / h for d, h in zip(drifts, b.heights)]
+        pk = self.peaks
+        out += pk.drift
+        out += pk.velocity
+        out += pk.acceleration
+        if storeys is None:
+            out += [k * d for k, d in zip(b.stiffnesses, drifts)]
+            out += [0.0] * n
+            out += [0.0, 0]
+        else:
+            out += storeys.forces(drifts)
+            out += storeys.zero_force_drifts(drifts)
+            out += [storeys.hysteretic, storeys.collapsed]
+        return out
 
     def peak_outputs(self, drifts):
         """(storey drift ratios [1] of the storey drifts [m] building_outputs gave, and the running

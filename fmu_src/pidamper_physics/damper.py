@@ -280,6 +280,12 @@ class Damper(_Damper):
         side = self.side if self.mode == STICK else 0
         return self.model.building_outputs(self.x, self.v, self.y, self.u, side, self._applied(force), ground)
 
+    def building_observables(self, force=0.0, ground=0.0):
+        """Every output of the building in one flat list (BuildingModel.building_observables) under held
+        force `force` [N] on the damper floor and ground acceleration `ground` [m/s2]."""
+        side = self.side if self.mode == STICK else 0
+        return self.model.building_observables(self.x, self.v, self.y, self.u, side, self._applied(force), ground)
+
     def _start_floors(self, xs, vs):
         n = self.p.storeys
         if not n or len(xs) != n or len(vs) != n:

@@ -4,34 +4,70 @@
 # sum(); no FMA (the build's flags).
 import cython
 
+from .modal cimport _matrix_sum
 from .oscillator cimport DampedOscillator
+from .peaks cimport Peaks
 
 
-@cython.locals(out=list, k=cython.Py_ssize_t, r=cython.Py_ssize_t, total=cython.double, a=cython.double,
-               b=cython.double)
-cpdef list combine(phi, q, Py_ssize_t n)
+@cython.locals(out=list, row=list, k=cython.Py_ssize_t, r=cython.Py_ssize_t, total=cython.double,
+               a=cython.double, b=cython.double)
+cpdef list combine(list phi, q, Py_ssize_t n)
 
 @cython.locals(out=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t, total=cython.double, c=cython.double,
                vj=cython.double, kk=cython.double, xj=cython.double, f=cython.double, mk=cython.double)
 cpdef list accelerations(forces, K, C, m, x, v, Py_ssize_t n)
 
+@cython.locals(r=cython.Py_ssize_t, total=cython.double, p=cython.double, a=cython.double, b=cython.double)
+cpdef double load_work(list loads, list q0, list q1, Py_ssize_t n) except? -1.0
+
 @cython.locals(out=list, k=cython.Py_ssize_t, r=cython.Py_ssize_t, total=cython.double, p=cython.double,
                f=cython.double, mk=cython.double)
 cpdef list modal_loads(phi, m, forces, double ground, Py_ssize_t n)
 
-@cython.locals(floors=list, drifts=list, bounds=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t,
-               r=cython.Py_ssize_t, total=cython.double, p=cython.double, a=cython.double, w=cython.double)
-cpdef tuple piece_bounds(phi, amps, powers, Py_ssize_t n, Py_ssize_t floor_order, Py_ssize_t drift_order)
+@cython.locals(floors=list, drifts=list, bounds=list, row=list, below=list, w_r=list, k=cython.Py_ssize_t,
+               j=cython.Py_ssize_t, r=cython.Py_ssize_t, total=cython.double, p=cython.double, a=cython.double,
+               w=cython.double)
+cpdef tuple piece_bounds(list phi, list amps, list powers, Py_ssize_t n, Py_ssize_t floor_order,
+                         Py_ssize_t drift_order)
 
 @cython.locals(out=list, j=cython.Py_ssize_t, r=cython.Py_ssize_t, total=cython.double, p=cython.double,
                d=cython.double)
 cpdef list floor_derivatives(row, q, Py_ssize_t lo, Py_ssize_t hi)
 
 
+@cython.locals(phi=list, x=list, v=list, out=list, heights=list, stiffnesses=list, net=list, masses=list,
+               springs=list, k=cython.Py_ssize_t, kinetic=cython.double, strain=cython.double, xk=cython.double,
+               vk=cython.double, mk=cython.double, nk=cython.double, hk=cython.double, sk=cython.double,
+               d=cython.double, energy=cython.double)
+cpdef list elastic_observables(b, list q, list qd, forces, Peaks peaks, double energy0, double work_in, Py_ssize_t n)
+
+
+cdef class ShearMotion
+
+
 cdef class ShearPiece:
-    cdef public object motion
+    cdef public ShearMotion motion
     cdef public double tau
 
     @cython.locals(out=list, mode=DampedOscillator, q=cython.double, q1=cython.double, c=cython.double,
                    k=cython.double, levels=list)
     cpdef list _modal(self, double s, Py_ssize_t orders)
+
+    @cython.locals(q0=list, q1=list, q2=list, mode=DampedOscillator, q=cython.double, qd=cython.double,
+                   c=cython.double, k=cython.double)
+    cpdef tuple first(self)
+
+    @cython.locals(m=ShearMotion, mode=DampedOscillator, amps=list)
+    cpdef tuple bounds(self, Py_ssize_t floor_order, Py_ssize_t drift_order)
+
+
+cdef class ShearMotion:
+    cdef public object b
+    cdef public Py_ssize_t n
+    cdef public double t, work_in, energy0
+    cdef public list q, qd, modes, powers
+    cdef public Peaks peaks
+    cdef public bint still
+
+    @cython.locals(q=list, qd=list, r=cython.Py_ssize_t, mode=DampedOscillator)
+    cpdef _free(self, double tau, list loads, double ground)

@@ -24,6 +24,7 @@ Plain Python (math): this ships inside the FMU.
 import math
 
 from .building import ShearBuilding
+from .modal import _matrix_sum
 from .oscillator import DampedOscillator
 from .params import ParameterError, check_building, check_finite
 from .refusals import check_step
@@ -86,6 +87,15 @@ class ShearMotion:
         """Kinetic plus strain energy of the floors [J] (relative motion)."""
         return self.b.energy(*self.floors())
 
+    def observables(self, forces):
+        """Every observable of the state in one flat list (YieldingMotion.observables's order):
+        per floor or storey, floor 1 first, x [m], v [m/s], the absolute accelerations under the
+        floor forces `forces` [m/s2], the drift ratios [1], the running maxima of |drift ratio|,
+        |absolute velocity| and |absolute acceleration|, the storey springs' forces [N] and their
+        plastic drifts [m] (0.0); then the hysteretic energy (0.0), collapsed (0), the energy, the
+        dashpots' energy, the work in [J] and the base shear [N]."""
+        return elastic_observables(self.b, self.q, self.qd, forces, self.peaks, self.energy0, self.work_in, self.n)
+
     # ---- stepping -------------------------------------------------------------------------
 
     def advance(self, t_end, forces, ground=0.0, impulses=()):
@@ -94,7 +104,7 @@ class ShearMotion:
         those times (clamped into [t, t_end])."""
         b, n = self.b, self.n
         check_step(self.t, t_end, forces, ground)
-        kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0)
+        kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0) if impulses else ()
         if not kicks and self._resting(forces, ground):
             # from q = q' = +0.0 under zero loads each mode's closed form gives +0.0 again
             # (oscillator.DampedOscillator.at: +0.0 plus zeros) and the loads' work adds a zero
@@ -116,7 +126,7 @@ class ShearMotion:
         self._free(t_end - t, loads, ground)
         self.t = t_end
         # the held loads' work: sum_k f_k dx_k = sum_r (Phi^T f)_r dq_r
-        self.work_in += sum(p * (b - a) for p, a, b in zip(loads, q0, self.q))
+        self.work_in += load_work(loads, q0, self.q, n)
 
     def _resting(self, forces, ground):
         """No load, the modes at +0.0 (stepping.at_rest) and the work not -0.0 (stepping.unsigned)."""
@@ -198,6 +208,34 @@ class ShearMotion:
         self.qd = [float(v) for v in state["qd"]]
 
 
+def elastic_observables(b, q, qd, forces, peaks, energy0, work_in, n):
+    """ShearMotion.observables: the floors from the modes once, then every output from them (the
+    same operations, in the same order, as floors(), absolute_accelerations(), the building's
+    drift_ratios(), energy() and base_shear())."""
+    phi = b.shapes
+    x = combine(phi, q, n)
+    v = combine(phi, qd, n)
+    out = x + v + accelerations(forces, b.K, b.C, b.masses, x, v, n)
+    heights, stiffnesses, net, masses = b.heights, b.stiffnesses, b.net, b.masses
+    springs = []
+    kinetic = strain = 0.0
+    for k in range(n):
+        xk, vk, mk, nk, hk, sk = x[k], v[k], masses[k], net[k], heights[k], stiffnesses[k]
+        d = xk - (x[k - 1] if k else 0.0)
+        out.append(d / hk)
+        springs.append(sk * d)
+        kinetic += mk * vk * vk
+        strain += nk * d * d
+    energy = 0.5 * kinetic + 0.5 * strain
+    out += peaks.drift
+    out += peaks.velocity
+    out += peaks.acceleration
+    out += springs
+    out += [0.0] * n
+    out += [0.0, 0, energy, energy0 + work_in - energy, work_in, _matrix_sum(b.K, x, b.C, v, n)]
+    return out
+
+
 # ---- the sums of the hot loops (typed in shear_motion.pxd): each sum from 0.0 left to right, as
 # CPython's sum() adds its floats, so both builds give the same bits ------------------------------
 
@@ -229,6 +267,15 @@ def accelerations(forces, K, C, m, x, v, n):
     return out
 
 
+def load_work(loads, q0, q1, n):
+    """`sum_r loads[r] (q1[r] - q0[r])`: the held modal loads' work over a step."""
+    total = 0.0
+    for r in range(n):
+        p, a, b = loads[r], q0[r], q1[r]
+        total += p * (b - a)
+    return total
+
+
 def modal_loads(phi, m, forces, ground, n):
     """`[sum_k phi[k][r] (F_k - m_k a_g) for each mode r]`: the modal loads."""
     out = []
@@ -246,21 +293,25 @@ def piece_bounds(phi, amps, powers, n, floor_order, drift_order):
     and powers w^j (j = 0..5)."""
     floors = []
     drifts = []
+    below = None
     for k in range(n):
         row = phi[k]
         bounds = []
         for j in range(floor_order, floor_order + 2):
             total = 0.0
             for r in range(n):
-                p, a, w = row[r], amps[r], powers[r][j]
+                w_r = powers[r]
+                p, a, w = row[r], amps[r], w_r[j]
                 total += abs(p) * a * w
             bounds.append(total)
         floors.append(bounds)
         total = 0.0
         for r in range(n):
-            p, a, w = row[r] - (phi[k - 1][r] if k else 0.0), amps[r], powers[r][drift_order]
+            w_r = powers[r]
+            p, a, w = row[r] - (below[r] if k else 0.0), amps[r], w_r[drift_order]
             total += abs(p) * a * w
         drifts.append(total)
+        below = row
     return floors, drifts
 
 
@@ -306,10 +357,16 @@ class ShearPiece:
 
     def first(self):
         """(x, v, acc) of the floors at the piece's start, as start() gives them."""
-        n, phi = self.motion.n, self.motion.b.shapes
-        q = self._modal(0.0, 3)
-        d = [floor_derivatives(phi[k], q, 0, 3) for k in range(n)]
-        return [d[k][0] for k in range(n)], [d[k][1] for k in range(n)], [d[k][2] for k in range(n)]
+        m = self.motion
+        q0, q1, q2 = [], [], []
+        for mode in m.modes:  # _modal(0.0, 3), by order
+            q, qd = mode.at(0.0)
+            c, k = 2.0 * mode.s, mode.ww
+            q0.append(q)
+            q1.append(qd)
+            q2.append(mode.p - c * qd - k * q)
+        phi, n = m.b.shapes, m.n
+        return combine(phi, q0, n), combine(phi, q1, n), combine(phi, q2, n)
 
     def bounds(self, floor_order, drift_order):
         """(per floor the bounds of |x^(floor_order)| and |x^(floor_order + 1)|, per storey the bound
@@ -317,7 +374,9 @@ class ShearPiece:
         m = self.motion
         phi, n, modes = m.b.shapes, m.n, m.modes
         # each mode's free part is exp(-s tau) (A cos + B sin): |d^j| <= sqrt(A^2 + B^2) w^j
-        amps = [math.hypot(mode.a, mode.b) for mode in modes]
+        amps = []
+        for mode in modes:
+            amps.append(math.hypot(mode.a, mode.b))
         return piece_bounds(phi, amps, m.powers, n, floor_order, drift_order)
 
     def derivatives(self, s, floors):

@@ -145,6 +145,15 @@ class YieldingMotion:
             self._restored = (booked, out)
         return out
 
+    def observables(self, forces):
+        """Every observable of the state in one flat list, in ShearMotion.observables's order
+        (forces [N]: the held floor forces)."""
+        x, v = self.floors()
+        pk = self.peaks
+        return [*x, *v, *self.absolute_accelerations(forces, x, v), *self.b.drift_ratios(x), *pk.drift, *pk.velocity,
+                *pk.acceleration, *self.storey_forces(), *self.plastic_drifts(), self.hysteretic, self.collapsed,
+                self.energy(), self.viscous, self.work_in, self.base_shear()]
+
     def absolute_accelerations(self, forces, x=None, v=None):
         """x_k'' + a_g [m/s2] of every floor under the forces [N] (held from the collapse instant)."""
         if self.frozen is not None:
