@@ -151,16 +151,14 @@ class ParticleSlave(FmiEntry, Fmi2Slave):
         return self._live_outputs(c)
 
     def _live_outputs(self, c):
-        theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force = c.observables(self.F, self.a_g)
+        force, ground = self.F, self.a_g
+        theta, theta_dot, alpha, alpha_dot, x, y, a, contact_force = c.observables(force, ground)
         n = self._in_step
-        out = (theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact,
-               *step_outputs(c.contacts), x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0)
-        return out + self._building_outputs(c) if self.STOREYS else out
-
-    def _building_outputs(self, c):
-        """floor[k].x, floor[k].a, storey[k].drift, base_shear, the drift ratios, the running
-        maxima and the storeys' outputs (particle_tables.building_outputs)."""
-        return tuple(c.building_observables(self.F, self.a_g))
+        out = [theta, theta_dot, alpha, alpha_dot, a, contact_force, c.energy, c.dissipated, c.impacts, c.contact,
+               *step_outputs(c.contacts), x, y, x - y, c.viscous, c.work_in, n, n - IMPACT_SLOTS if n > IMPACT_SLOTS else 0]
+        if self.STOREYS:  # floor[k].x, floor[k].a, storey[k].drift, base_shear, the drift ratios, the running
+            out += c.building_observables(force, ground)  # maxima, the storeys' (particle_tables.building_outputs)
+        return out
 
     # ---- per-step impact record -------------------------------------------------------
 

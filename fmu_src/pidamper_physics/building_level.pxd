@@ -1,3 +1,17 @@
-# Types for the compiled build of building_level.py (Cython, pure-Python mode): only the modal sums it
-# calls, cimported so that the compiled build calls them in C; its classes stay Python classes.
+# Types for the compiled build of building_level.py (Cython, pure-Python mode): the modal sums it
+# calls, cimported so that the compiled build calls them in C, and its outputs' loops in C doubles;
+# its classes stay Python classes.
+import cython
+
 from .modal cimport _dot3, _dot_change, _dot_real, _matrix_sum, _total
+
+
+@cython.locals(xs=list, vs=list, k=cython.Py_ssize_t)
+cpdef tuple _all_floors(list others, Py_ssize_t j, Py_ssize_t n, x, v)
+
+@cython.locals(out=list, drifts=list, ratios=list, k=cython.Py_ssize_t, a=cython.double, d=cython.double,
+               h=cython.double)
+cpdef tuple _floor_table(list xs, list acc, double ground, list heights, Py_ssize_t n)
+
+@cython.locals(k=cython.Py_ssize_t, x=cython.double, y=cython.double)
+cpdef _add_products(list out, list a, list b, Py_ssize_t n)

@@ -133,10 +133,7 @@ class BuildingModel(LevelModel):
 
     def floors(self, x, v):
         """(displacements, velocities) of all floors [m, m/s], floor 1 first."""
-        o, j, n = self.others, self.j, self.n
-        xs = o[:j] + [x] + o[j:n - 1]
-        vs = o[n - 1:n - 1 + j] + [v] + o[n - 1 + j:]
-        return xs, vs
+        return _all_floors(self.others, self.j, self.n, x, v)
 
     def set_floors(self, xs, vs):
         """Put the other floors' state (the damper floor's is the Damper's x, v)."""
@@ -320,21 +317,19 @@ class BuildingModel(LevelModel):
         hysteretic energy and collapsed (0 / 1) [m, m/s2, m, N, 1, 1, m/s, m/s2, N, m, J, 1]."""
         b = self.p.building
         xs, vs = self.floors(x, v)
-        acc = self._accelerations(x, v, y, u, side, f, ground)
-        drifts = b.drifts(xs)
         storeys, n = self.storeys, self.n
-        out = xs + [a + ground for a in acc] + drifts
+        out, drifts, ratios = _floor_table(xs, self._accelerations(x, v, y, u, side, f, ground), ground, b.heights, n)
         if storeys is None:
-            out.append(b.base_shear(xs, vs))
+            out.append(_matrix_sum(b.K, xs, b.C, vs, n))  # b.base_shear(xs, vs)
         else:
             out.append(_total(storeys.restoring(drifts)) + _matrix_sum(b.C, vs, None, None, n))
-        out += [d / h for d, h in zip(drifts, b.heights)]
+        out += ratios
         pk = self.peaks
         out += pk.drift
         out += pk.velocity
         out += pk.acceleration
         if storeys is None:
-            out += [k * d for k, d in zip(b.stiffnesses, drifts)]
+            _add_products(out, b.stiffnesses, drifts, n)
             out += [0.0] * n
             out += [0.0, 0]
         else:
@@ -360,6 +355,45 @@ class BuildingModel(LevelModel):
             _dot_change(b.masses, xs1, xs0) + p.m * (after[2] - before[2]))
         w = held + p.M * harmonic_work(seg, tau, p.F0 / p.M, p.Omega, psi, _floor_velocity)
         return w, w - e_change - self._hysteretic
+
+
+def _all_floors(others, j, n, x, v):
+    """BuildingModel.floors: the other floors' x_k, then v_k (k != j), with floor j's x, v put in."""
+    xs, vs = [], []
+    for k in range(n - 1):
+        if k == j:
+            xs.append(x)
+            vs.append(v)
+        xs.append(others[k])
+        vs.append(others[n - 1 + k])
+    if j == n - 1:
+        xs.append(x)
+        vs.append(v)
+    return xs, vs
+
+
+def _floor_table(xs, acc, ground, heights, n):
+    """(the floor displacements, absolute accelerations (acc + ground) and storey drifts in one list,
+    the drifts, the drift ratios) of floors xs [m] with relative accelerations acc [m/s2]."""
+    out = list(xs)
+    for k in range(n):
+        a = acc[k]
+        out.append(a + ground)
+    drifts, ratios = [], []
+    for k in range(n):
+        d = xs[k] - (xs[k - 1] if k else 0.0)
+        h = heights[k]
+        drifts.append(d)
+        ratios.append(d / h)
+    out += drifts
+    return out, drifts, ratios
+
+
+def _add_products(out, a, b, n):
+    """Append a_k b_k, k < n, to out."""
+    for k in range(n):
+        x, y = a[k], b[k]
+        out.append(x * y)
 
 
 def _floor_velocity(seg, tau):

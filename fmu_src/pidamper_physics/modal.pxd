@@ -106,5 +106,6 @@ cdef class Motion:
 
     @cython.locals(m=Modes, om=cython.double, per_mode=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t,
                    lam=cython.doublecomplex, a=cython.double, ck=cython.doublecomplex, size=cython.double,
-                   row=list, grow=cython.double, powers=list, pk=list, om_powers=list)
+                   row=list, grow=cython.double, powers=list, pk=list, om_powers=list, p=cython.double, columns=list,
+                   column=list)
     cpdef list _columns_over(self, double T, Py_ssize_t orders)

@@ -414,7 +414,10 @@ class Motion:
             pk = powers[k]
             ck = self.coef[k]
             size = abs(ck)
-            row = [size * pk[j] for j in range(orders)]
+            row = [0.0] * orders
+            for j in range(orders):
+                p = pk[j]
+                row[j] = size * p
             if self.forced:
                 lam = m.lam[k]
                 a = abs(lam)
@@ -438,7 +441,14 @@ class Motion:
                 if lam.real > 1e-9 * m.fastest:
                     grow = math.exp(lam.real * T)
                     per_mode[k] = [r * grow for r in per_mode[k]]
-        return [[per_mode[k][j] for k in range(len(per_mode))] for j in range(orders)]  # per order, by mode
+        columns = []  # per order, by mode
+        for j in range(orders):
+            column = [0.0] * len(per_mode)
+            for k in range(len(per_mode)):
+                row = per_mode[k]
+                column[k] = row[j]
+            columns.append(column)
+        return columns
 
     def rest(self, rows=None, vectors=None):
         """Per component of z: the constant part (the equilibrium under the held load b); only

@@ -34,7 +34,7 @@ cdef class Peaks:
     @cython.locals(top=list, old=cython.double)
     cdef _raise(self, Py_ssize_t kind, Py_ssize_t k, double f)
 
-    @cython.locals(top=list)
+    @cython.locals(top=list, value=cython.double)
     cdef double _top(self, Py_ssize_t kind, Py_ssize_t k) except? -1.0
 
     @cython.locals(need=dict, ih=list, vg=cython.double, out=list, q=tuple, kind=cython.Py_ssize_t,

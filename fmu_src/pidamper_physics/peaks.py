@@ -261,7 +261,8 @@ class Peaks:
     def _top(self, kind, k):
         """The maximum of quantity (kind, k) with the excess an interval may hide."""
         top = self.drift if kind == 0 else self.velocity if kind == 1 else self.acceleration
-        return top[k] * (1.0 + REL) + _TINY
+        value = top[k]
+        return value * (1.0 + REL) + _TINY
 
     def _worst(self, active, fa, fb, length):
         """Index of the active quantity the interval's two cubics leave most above its maximum, or -1."""
