@@ -1,3 +1,9 @@
-# Types for the compiled build of building.py (Cython, pure-Python mode): only the modal sums it calls,
-# cimported so that the compiled build calls them in C; ShearBuilding stays a Python class.
-from .modal cimport _dot3, _matrix_sum
+# Types for the compiled build of building.py (Cython, pure-Python mode): ShearBuilding as a typed
+# class, so that the modules stepping it read its matrices and lists from C fields.
+import cython
+
+
+cdef class ShearBuilding:
+    cdef public Py_ssize_t n
+    cdef public double zeta
+    cdef public list masses, stiffnesses, heights, geometric, net, K, omegas, shapes, C

@@ -287,10 +287,18 @@ class BuildingModel(LevelModel):
         if held is not None:
             for i, c in enumerate(held):
                 loads[i] += c
-        return [loads[i] - _dot_real(K[i], q) - _dot_real(C[i], dq) for i in range(n)]
+        return _relative_accelerations(K, C, loads, q, dq, n)
 
     def acceleration(self, x, v, y, u, side, f, ground):
         return self._accelerations(x, v, y, u, side, f, ground)[self.j]
+
+    def observables(self, x, v, y, u, side, f, ground):
+        """Damper.observables of this level inline (the FMU's outputs at every step): the same
+        operations as angles, displacements, contact_accel and acceleration, so the same bits."""
+        p = self.p
+        contact = p.m * self.contact_accel(x, v, side, f, ground) if side else 0.0
+        a = self._accelerations(x, v, y, u, side, f, ground)[self.j]
+        return x / p.L2, v / p.L2, (y - x) / p.L1, (u - v) / p.L1, x, y, a, contact
 
     def contact_accel(self, x, v, side, f, ground):
         p = self.p
@@ -318,24 +326,19 @@ class BuildingModel(LevelModel):
         b = self.p.building
         xs, vs = self.floors(x, v)
         storeys, n = self.storeys, self.n
-        out, drifts, ratios = _floor_table(xs, self._accelerations(x, v, y, u, side, f, ground), ground, b.heights, n)
+        acc = self._accelerations(x, v, y, u, side, f, ground)
         if storeys is None:
-            out.append(_matrix_sum(b.K, xs, b.C, vs, n))  # b.base_shear(xs, vs)
-        else:
-            out.append(_total(storeys.restoring(drifts)) + _matrix_sum(b.C, vs, None, None, n))
+            return _elastic_outputs(xs, vs, acc, ground, b, self.peaks, n)
+        out, drifts, ratios = _floor_table(xs, acc, ground, b.heights, n)
+        out.append(_total(storeys.restoring(drifts)) + _matrix_sum(b.C, vs, None, None, n))
         out += ratios
         pk = self.peaks
         out += pk.drift
         out += pk.velocity
         out += pk.acceleration
-        if storeys is None:
-            _add_products(out, b.stiffnesses, drifts, n)
-            out += [0.0] * n
-            out += [0.0, 0]
-        else:
-            out += storeys.forces(drifts)
-            out += storeys.zero_force_drifts(drifts)
-            out += [storeys.hysteretic, storeys.collapsed]
+        out += storeys.forces(drifts)
+        out += storeys.zero_force_drifts(drifts)
+        out += [storeys.hysteretic, storeys.collapsed]
         return out
 
     def peak_outputs(self, drifts):
@@ -372,6 +375,15 @@ def _all_floors(others, j, n, x, v):
     return xs, vs
 
 
+def _relative_accelerations(K, C, loads, q, dq, n):
+    """`[loads[i] - K[i] . q - C[i] . dq for i < n]` (the dots added left to right from 0)."""
+    out = []
+    for i in range(n):
+        load = loads[i]
+        out.append(load - _dot_real(K[i], q) - _dot_real(C[i], dq))
+    return out
+
+
 def _floor_table(xs, acc, ground, heights, n):
     """(the floor displacements, absolute accelerations (acc + ground) and storey drifts in one list,
     the drifts, the drift ratios) of floors xs [m] with relative accelerations acc [m/s2]."""
@@ -389,11 +401,23 @@ def _floor_table(xs, acc, ground, heights, n):
     return out, drifts, ratios
 
 
-def _add_products(out, a, b, n):
-    """Append a_k b_k, k < n, to out."""
+def _elastic_outputs(xs, vs, acc, ground, b, peaks, n):
+    """BuildingModel.building_observables of elastic storeys: the floor table, the base shear
+    b.base_shear(xs, vs), the drift ratios, the running maxima, the springs' forces k_k d_k,
+    zeros for the drifts of zero force and 0.0, 0 for the hysteretic energy and collapsed."""
+    out, drifts, ratios = _floor_table(xs, acc, ground, b.heights, n)
+    out.append(_matrix_sum(b.K, xs, b.C, vs, n))
+    out += ratios
+    out += peaks.drift
+    out += peaks.velocity
+    out += peaks.acceleration
+    stiffnesses = b.stiffnesses
     for k in range(n):
-        x, y = a[k], b[k]
-        out.append(x * y)
+        s, d = stiffnesses[k], drifts[k]
+        out.append(s * d)
+    out += [0.0] * n
+    out += [0.0, 0]
+    return out
 
 
 def _floor_velocity(seg, tau):

@@ -4,6 +4,7 @@
 # sum(); no FMA (the build's flags).
 import cython
 
+from .building cimport ShearBuilding
 from .modal cimport _matrix_sum
 from .oscillator cimport DampedOscillator
 from .peaks cimport Peaks
@@ -12,6 +13,10 @@ from .peaks cimport Peaks
 @cython.locals(out=list, row=list, k=cython.Py_ssize_t, r=cython.Py_ssize_t, total=cython.double,
                a=cython.double, b=cython.double)
 cpdef list combine(list phi, q, Py_ssize_t n)
+
+@cython.locals(out=list, row=list, k=cython.Py_ssize_t, r=cython.Py_ssize_t, total=cython.double, p=cython.double,
+               mk=cython.double, xk=cython.double)
+cpdef list project(list phi, m, x, Py_ssize_t n)
 
 @cython.locals(out=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t, total=cython.double, c=cython.double,
                vj=cython.double, kk=cython.double, xj=cython.double, f=cython.double, mk=cython.double)
@@ -39,7 +44,7 @@ cpdef list floor_derivatives(row, q, Py_ssize_t lo, Py_ssize_t hi)
                springs=list, k=cython.Py_ssize_t, kinetic=cython.double, strain=cython.double, xk=cython.double,
                vk=cython.double, mk=cython.double, nk=cython.double, hk=cython.double, sk=cython.double,
                d=cython.double, energy=cython.double)
-cpdef list elastic_observables(b, list q, list qd, forces, Peaks peaks, double energy0, double work_in, Py_ssize_t n)
+cpdef list elastic_observables(ShearBuilding b, list q, list qd, forces, Peaks peaks, double energy0, double work_in, Py_ssize_t n)
 
 
 cdef class ShearMotion
@@ -62,7 +67,7 @@ cdef class ShearPiece:
 
 
 cdef class ShearMotion:
-    cdef public object b
+    cdef public ShearBuilding b
     cdef public Py_ssize_t n
     cdef public double t, work_in, energy0
     cdef public list q, qd, modes, powers
@@ -71,3 +76,7 @@ cdef class ShearMotion:
 
     @cython.locals(q=list, qd=list, r=cython.Py_ssize_t, mode=DampedOscillator)
     cpdef _free(self, double tau, list loads, double ground)
+
+    @cython.locals(b=ShearBuilding, n=cython.Py_ssize_t, phi=list, m=list, loads=list, t=cython.double, q0=list,
+                   r=cython.Py_ssize_t, before=cython.double)
+    cpdef advance(self, t_end, forces, ground=*, impulses=*)

@@ -65,8 +65,8 @@ class ShearMotion:
         """Set the state to floor displacements x [m] and velocities v [m/s] (relative to the
         ground): the modal projections q = Phi^T M x, q' = Phi^T M x'."""
         phi, m, n = self.b.shapes, self.b.masses, self.n
-        self.q = [sum(phi[k][r] * m[k] * x[k] for k in range(n)) for r in range(n)]
-        self.qd = [sum(phi[k][r] * m[k] * v[k] for k in range(n)) for r in range(n)]
+        self.q = project(phi, m, x, n)
+        self.qd = project(phi, m, v, n)
 
     # ---- floor values ------------------------------------------------------------------
 
@@ -104,7 +104,7 @@ class ShearMotion:
         those times (clamped into [t, t_end])."""
         b, n = self.b, self.n
         check_step(self.t, t_end, forces, ground)
-        kicks = sorted((min(max(t, self.t), t_end), k, j) for t, k, j in impulses if j != 0.0) if impulses else ()
+        kicks = _kicks(impulses, self.t, t_end) if impulses else ()
         if not kicks and self._resting(forces, ground):
             # from q = q' = +0.0 under zero loads each mode's closed form gives +0.0 again
             # (oscillator.DampedOscillator.at: +0.0 plus zeros) and the loads' work adds a zero
@@ -119,7 +119,7 @@ class ShearMotion:
         for t_k, k, j in kicks:
             self._free(t_k - t, loads, ground)
             t = t_k
-            before = sum(phi[k][r] * self.qd[r] for r in range(n))
+            before = combine(phi, self.qd, n)[k]  # floor k's velocity
             for r in range(n):
                 self.qd[r] += phi[k][r] * j
             self.work_in += 0.5 * j * (before + before + j / m[k])
@@ -236,6 +236,11 @@ def elastic_observables(b, q, qd, forces, peaks, energy0, work_in, n):
     return out
 
 
+def _kicks(impulses, t0, t_end):
+    """The impulses (t, floor index, J) with J != 0, their times clamped into [t0, t_end], in time order."""
+    return sorted((min(max(t, t0), t_end), k, j) for t, k, j in impulses if j != 0.0)
+
+
 # ---- the sums of the hot loops (typed in shear_motion.pxd): each sum from 0.0 left to right, as
 # CPython's sum() adds its floats, so both builds give the same bits ------------------------------
 
@@ -249,6 +254,19 @@ def combine(phi, q, n):
             a = row[r]
             b = q[r]
             total += a * b
+        out.append(total)
+    return out
+
+
+def project(phi, m, x, n):
+    """`[sum_k phi[k][r] m[k] x[k] for each mode r]`: modal coordinates of floor values x."""
+    out = []
+    for r in range(n):
+        total = 0.0
+        for k in range(n):
+            row = phi[k]
+            p, mk, xk = row[r], m[k], x[k]
+            total += p * mk * xk
         out.append(total)
     return out
 
