@@ -88,3 +88,42 @@ def test_the_damper_building_observables_are_the_building_outputs(fy):
         expected = xs + acc + drifts + [shear] + ratios + drift_max + v_max + a_max + springs
         assert repr(core.building_observables(force, ground)) == repr(expected)
     assert core.impacts > 0 and (storeys is None or storeys.hysteretic > 0.0)
+
+
+@pytest.mark.parametrize("yield_force", [0.0, 3e5])
+def test_the_building_fmu_names_each_observable(yield_force):
+    """ShearBuilding3's outputs by name against the core's quantities (the FMU packs observables()
+    in the order of its variables: a shifted or swapped entry fails here)."""
+    from pidamper_fmu.building_slave import ShearBuilding3
+
+    model = ShearBuilding3(instance_name="t", resources="/tmp")
+    by_name = {var.name: vr for vr, var in model.vars.items()}
+    model.set_real([by_name[f"storey[{k}].Fy"] for k in (1, 2, 3)], [yield_force] * 3)
+    model.setup_experiment(0.0)
+    model.exit_initialization_mode()
+    rng = random.Random(5)
+    for k in range(30):
+        forces, ground, _ = _loads(rng, k)
+        model.set_real([by_name[f"F[{i}]"] for i in (1, 2, 3)] + [by_name["a_g"]], forces + [ground])
+        model.do_step(k * H, H)
+    core = model._core
+    value = {name: model.get_real([vr])[0] if name != "collapsed" else model.get_integer([vr])[0]
+             for name, vr in by_name.items() if name in {row[0] for row in model.COMPUTED}}
+    x, v = core.floors()
+    a = core.absolute_accelerations(forces, x, v)
+    pk = core.peaks
+    for i in range(3):
+        k = i + 1
+        assert value[f"floor[{k}].x"] == x[i] and value[f"floor[{k}].v"] == v[i] and value[f"floor[{k}].a"] == a[i]
+        assert value[f"storey[{k}].drift_ratio"] == core.b.drift_ratios(x)[i]
+        assert value[f"storey[{k}].drift_ratio_max"] == pk.drift[i]
+        assert value[f"floor[{k}].v_abs_max"] == pk.velocity[i] and value[f"floor[{k}].a_abs_max"] == pk.acceleration[i]
+    assert value["work_in"] == core.work_in and value["base_shear"] != 0.0
+    if yield_force:
+        assert [value[f"storey[{k}].force"] for k in (1, 2, 3)] == core.storey_forces()
+        assert value["energy_hysteretic"] == core.hysteretic > 0.0 and value["base_shear"] == core.base_shear()
+        assert value["energy"] == core.energy() and value["energy_viscous"] == core.viscous
+    else:
+        assert value["energy"] == core.energy() and value["energy_viscous"] == core.energy0 + core.work_in - value["energy"]
+        assert value["base_shear"] == core.b.base_shear(x, v) and value["energy_hysteretic"] == 0.0
+    assert value["collapsed"] == 0

@@ -11,6 +11,9 @@ access and the FMI entry points around the model's own `_step` and `_build_core`
   its outputs there after each step, and the layer answers reads from it without entering Python.
   No host can make the model write anywhere else, with the layer or without it (pythonfmu's own
   binary passes every value reference to the model: set_string refuses them all).
+- With the native layer, fmi2DoStep and fmi2SetReal of Real inputs reach the model by direct calls
+  (`_native_step`, `_native_set_input`) after the layer's own checks; any other call goes through
+  pythonfmu.
 - Outputs are computed once per state: after a step the model packs them into the native layer's
   buffer in one pass (and skips even that when the physics says the step changed nothing the
   outputs read: `core.still`, no input set to other bits and no read through Python since); reads
