@@ -1,6 +1,9 @@
 # Types for the compiled build of building.py (Cython, pure-Python mode): ShearBuilding as a typed
-# class, so that the modules stepping it read its matrices and lists from C fields.
+# class, so that the modules stepping it read its matrices and lists from C fields, and the modal
+# sums it calls, cimported so that the compiled build calls them in C.
 import cython
+
+from .modal cimport _dot3, _matrix_sum
 
 
 cdef class ShearBuilding:
