@@ -76,6 +76,8 @@ class BuildingModel(LevelModel):
         self.storeys = None if p.law is None else Hysteresis(p.law, b.heights, p.collapse_drift, max(b.omegas))
         self._regimes = {}
         self._hysteretic = 0.0
+        self._acc_key = self._acc = None  # the last state's floor accelerations: the outputs of a step ask twice
+        self._held_kept = {}  # id(masses): (storeys' version, masses, held forces per mass)
 
     # ---- yielding storeys ---------------------------------------------------------------
 
@@ -108,10 +110,18 @@ class BuildingModel(LevelModel):
         self.free, self.ride, self.Kf, self.Cf, self.Kr, self.Cr = systems
 
     def _held(self, masses):
-        """The storeys' held forces per mass [m/s2] on each floor in the current regime (0 if elastic)."""
-        if self.storeys is None:
+        """The storeys' held forces per mass [m/s2] on each floor in the current regime (None if the
+        storeys are elastic), kept per version of the storeys' state for the free and the riding
+        masses (shared: do not change it)."""
+        storeys = self.storeys
+        if storeys is None:
             return None
-        return [c / m for c, m in zip(self.storeys.held(), masses)]
+        kept = self._held_kept.get(id(masses))
+        if kept is not None and kept[0] == storeys.version and kept[1] is masses:
+            return kept[2]
+        held = _per_floor(storeys.held(), masses)
+        self._held_kept[id(masses)] = (storeys.version, masses, held)
+        return held
 
     def storey_event(self, guard, x, v, t):
         """A storey guard's zero at time t [s] (the damper floor at x, v): yield, unload or collapse
@@ -197,12 +207,14 @@ class BuildingModel(LevelModel):
 
     def energy(self, x, v, y, u):
         p = self.p
+        b = p.building
         xs, vs = self.floors(x, v)
         r = y - x
+        m, w1 = p.m, p.w1
         if self.storeys is None:
-            return p.building.energy(xs, vs) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
-        kinetic = 0.5 * _dot3(p.building.masses, vs, vs)
-        return kinetic + self.storeys.strain(p.building.drifts(xs)) + 0.5 * p.m * (u * u + p.w1 * p.w1 * r * r)
+            return b.energy(xs, vs) + 0.5 * m * (u * u + w1 * w1 * r * r)
+        kinetic = 0.5 * _dot3(b.masses, vs, vs)
+        return kinetic + self.storeys.strain(b.drifts(xs)) + 0.5 * m * (u * u + w1 * w1 * r * r)
 
     # ---- segments -------------------------------------------------------------------
 
@@ -256,8 +268,6 @@ class BuildingModel(LevelModel):
         return (x, v1, y, u1), impact_loss(self.p.M, mu, e, v, u), u - v, u1 - v1
 
     # ---- outputs --------------------------------------------------------------------
-
-    _acc_key = _acc = None  # the last state's floor accelerations: the outputs of a step ask thrice
 
     def _accelerations(self, x, v, y, u, side, f, ground):
         """Relative accelerations of all floors [m/s2] (f = applied force per floor-j mass); the
@@ -430,16 +440,16 @@ class BuildingFlight(ModalFlight):
 
     def take_peaks(self, peaks, tau, ground):
         """Raise the building's running maxima (peaks.Peaks) over [0, tau] of this piece."""
-        j, n = self.gap
-        take_peaks(self, peaks, tau, ground, n + 1, j, self.f)
+        take_peaks(self, peaks, tau, ground, self._n + 1, self._j, self.f)
 
-    __slots__ = ("_tau", "_z", "start_floors", "z0")
+    __slots__ = ("_tau", "_z", "start_floors", "z0", "_j", "_n")
 
     def __init__(self, system, z0, b, a, om, psi, T, D, always_bound, gap):
         ModalFlight.__init__(self, system, z0, b, a, om, psi, T, D, always_bound, gap)
+        self._j, self._n = gap  # the damper floor's index and the particle's (= N)
         self._tau, self._z = 0.0, z0
         self.z0 = z0  # the start state (z at tau = 0)
-        self.start_floors = z0[:gap[1]]
+        self.start_floors = z0[:self._n]
 
     def state(self, tau):
         if tau != self._tau:
@@ -447,20 +457,20 @@ class BuildingFlight(ModalFlight):
         return self._z
 
     def floors_at(self, tau):
-        return self.state(tau)[:self.gap[1]]
+        return self.state(tau)[:self._n]
 
     def others(self, tau):
         z = self.state(tau)
-        j, n = self.gap
+        j, n = self._j, self._n
         return z[:j] + z[j + 1:n] + z[n + 1:n + 1 + j] + z[n + 2 + j:2 * n + 1]
 
     def positions(self, tau):
         z = self.state(tau)
-        j, n = self.gap
+        j, n = self._j, self._n
         return z[j], z[n + 1 + j], z[n], z[2 * n + 1]
 
     def values(self, tau):
-        j, n = self.gap
+        j, n = self._j, self._n
         x, y, v, u = self.motion.state(tau, (j, n, n + 1 + j, 2 * n + 1))  # the gap's four rows only
         g, dg = x - y, v - u
         D = self.D
@@ -468,7 +478,7 @@ class BuildingFlight(ModalFlight):
 
     def derivs(self, tau, i):
         z = self.state(tau)
-        j, n = self.gap
+        j, n = self._j, self._n
         N = n + 1
         s, c = self.motion.load(tau)
         K, C, b, a, om = self.K, self.C, self.b, self.f, self.om
@@ -494,8 +504,8 @@ class WithStoreys:
     def __init__(self, seg, storeys, T, contacts):
         self.seg, self.contacts = seg, contacts
         self.storey = guards = StoreyGuards(storeys, seg.motion, T)
-        self.bounds = tuple(map(max, seg.bounds, guards.bounds))
-        self.noise = tuple(map(max, seg.noise, guards.noise))
+        self.bounds = _larger(seg.bounds, guards.bounds)
+        self.noise = _larger(seg.noise, guards.noise)
         self.growth = max(seg.growth, guards.growth)
         self.clear = seg.clear and guards.clear
 
@@ -527,3 +537,21 @@ class WithStoreys:
         if i < self.contacts:
             return self.seg.derivs(tau, i)
         return self.storey.derivs(tau, i - self.contacts)
+
+
+def _per_floor(forces, masses):
+    """forces_i / masses_i per floor [m/s2]."""
+    out = []
+    for i in range(len(forces)):
+        f, m = forces[i], masses[i]
+        out.append(f / m)
+    return out
+
+
+def _larger(p, q):
+    """The larger of each pair p_i, q_i (max(p_i, q_i): q_i only if it is larger), as a tuple."""
+    out = []
+    for k in range(len(p)):
+        a, b = p[k], q[k]
+        out.append(b if b > a else a)
+    return tuple(out)

@@ -42,3 +42,50 @@ cpdef double complex _mode_row(p, q, V, Py_ssize_t n, Py_ssize_t k) except *
 
 @cython.locals(rows=cython.Py_ssize_t, r=cython.Py_ssize_t, acc=list, jerk=list, snap=list)
 cpdef tuple chain(z, Py_ssize_t n, K, C, b, Py_ssize_t j, double a, double om, double s, double c, bint full=*)
+
+
+cdef class ModalStick:
+    cdef public Motion motion
+    cdef public Py_ssize_t j, n
+    cdef public double sgn, d, a, om, k0, growth, _tau
+    cdef public object kx, kv, K, C, b
+    cdef public tuple bounds, noise
+    cdef public bint clear
+    cdef public list _z, start_floors, z0
+
+    cpdef list state(self, double tau)
+
+    cpdef list floors_at(self, double tau)
+
+    @cython.locals(z=list, j=cython.Py_ssize_t, n=cython.Py_ssize_t)
+    cpdef list others(self, double tau)
+
+    @cython.locals(z=list, x=cython.double, v=cython.double)
+    cpdef tuple positions(self, double tau)
+
+    cpdef tuple _chain(self, double tau)
+
+    cpdef take_peaks(self, peaks, double tau, ground)
+
+    @cython.locals(x=list, v=list, acc=list, s=cython.double, c=cython.double, sg=cython.double, a=cython.double,
+                   om=cython.double, n=cython.Py_ssize_t)
+    cpdef tuple values(self, double tau)
+
+    @cython.locals(x=list, v=list, acc=list, jerk=list, snap=list, s=cython.double, c=cython.double,
+                   sg=cython.double, a=cython.double, n=cython.Py_ssize_t)
+    cpdef tuple derivs(self, double tau, Py_ssize_t i=*)
+
+
+cdef class ModalPiece:
+    cdef public object seg
+    cdef public Py_ssize_t n, j, floors
+    cdef public double a, tau
+
+    cpdef tuple start(self)
+
+    cpdef tuple first(self)
+
+    @cython.locals(motion=Motion, drifts=list)
+    cpdef tuple bounds(self, Py_ssize_t floor_order, Py_ssize_t drift_order)
+
+    cpdef dict derivatives(self, double s, dict floors)
