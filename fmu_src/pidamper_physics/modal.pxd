@@ -92,6 +92,12 @@ cdef class Motion:
                    row=list)
     cpdef dict derivatives(self, double tau, dict rows, Py_ssize_t orders=*)
 
+    @cython.locals(m=Modes, i=cython.Py_ssize_t, levels=list, out=list)
+    cpdef list component_derivatives(self, double tau, Py_ssize_t first, Py_ssize_t last, Py_ssize_t orders)
+
+    @cython.locals(levels=list)
+    cpdef list _levels_at(self, double tau, Py_ssize_t orders)
+
     @cython.locals(m=Modes, lams=list, levels=list, d=list, j=cython.Py_ssize_t, s=cython.double, c=cython.double)
     cpdef list _levels(self, double tau, Py_ssize_t orders)
 

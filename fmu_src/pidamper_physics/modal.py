@@ -337,7 +337,10 @@ class Motion:
         derivatives() gives them."""
         m = self.modes
         levels = self._levels_at(tau, orders)
-        return [_real_dots(m.weighted_complex(i), levels, 0, orders) for i in range(first, last)]
+        out = []
+        for i in range(first, last):
+            out.append(_real_dots(m.weighted_complex(i), levels, 0, orders))
+        return out
 
     def _levels_at(self, tau, orders):
         """_levels(tau, orders), those at 0 and the last kept (shared: do not change them)."""

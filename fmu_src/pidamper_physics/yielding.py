@@ -424,6 +424,7 @@ class StoreyGuards:
     def __init__(self, storeys, motion, T):
         self.motion = motion
         self.n = n = storeys.n
+        motion = self.motion  # (typed)
         modes = motion.modes
         #: per floor [x, x', ..., x^(4)] at the start (the piece's maxima start from them too)
         self.floors = motion.component_derivatives(0.0, 0, n, 5)
