@@ -19,6 +19,7 @@ NormDispIncr.  Relative displacements, as the FMUs report them.
 import ctypes
 import glob
 import importlib.util
+import json
 import os
 
 _OPS = None
@@ -234,3 +235,23 @@ def pushover_curve(masses, stiffnesses, yield_forces, ratios, heights, p_delta, 
         shear.append(ops.getLoadFactor(1) * total)
     ops.wipe()
     return roof, shear
+
+
+def imk_material(params, strains):
+    """OpenSees's `IMKBilin` uniaxial material (its 21 parameters in the command's order) driven
+    through `strains` (a list, or the path of a JSON file holding one) as openseespy's `setStrain`
+    drives it (setTrialStrain and commitState per sample): the stresses, one per sample (NaN as
+    JSON null)."""
+    if isinstance(strains, str):
+        with open(strains) as f:
+            strains = json.load(f)
+    ops = load()
+    ops.wipe()
+    ops.uniaxialMaterial("IMKBilin", 1, *[float(p) for p in params])
+    ops.testUniaxialMaterial(1)
+    out = []
+    for e in strains:
+        ops.setStrain(float(e))
+        s = ops.getStress()
+        out.append(s if s == s else None)
+    return out
