@@ -30,7 +30,10 @@ integrates the energy by the trapezoid and tests the residual force and the loss
 samples.  Two of its sample rules are read as the limit would have them: a force equal to the
 residual counts only while it follows the plateau over a positive drift (not where a reloading line
 meets the plateau's corner, which the source's rotation of the pre-capping slope constructs), and
-one crossing is one excursion (the source counts a second when a sample lands on zero force).
+one crossing is one excursion (the source counts a second when a sample lands on zero force), a
+reloading line that reaches the backbone exactly where a move ends has not yet reached it, and
+along a backbone of zero force towards zero drift, where the source's rules fire at every sample
+(that side lost, a reversal, an excursion), their limit applies once where that stretch begins.
 Where the source computes pow() of a negative base with a non-integer exponent (it returns NaN
 stress), beta is 0 here.  Otherwise the source's rules are kept, also where they differ from
 Lignos & Krawinkler (2011): an excursion that exhausts the remaining reference energy makes beta
@@ -281,6 +284,22 @@ class IMKStorey:
             self.failure = state
             self._note(f"failure {state}")
 
+    def _zero_backbone(self, d):
+        """Following a backbone of zero force towards zero drift (u d <= 0): the source's rules fire
+        at every strain step there (that side lost, a reversal from the backbone, an excursion, the
+        force capped back onto the backbone); their limit is applied once, at the start (the
+        reversal gives 0.5 Ke, the side lost, the excursion's energy 0).  False if it was already."""
+        lost = LOST_POS if d > 0 else LOST_NEG
+        if self.failure in (lost, LOST) and self.k == 0.5 * self.ke and self.e_crossing == self.e_acc:
+            return False
+        self._flags(d, plateau=True)
+        if self.failure != LOST and self._reverse():
+            self._flags(d, exhausted=True)
+        if self.failure != LOST and self._excursion(d):
+            self._flags(d, exhausted=True)
+        self.on_backbone = True
+        return True
+
     def _to_residual(self, d):
         """Distance to the residual onset of the backbone of direction d (inf if none ahead)."""
         if self.failure >= RESIDUAL:
@@ -321,6 +340,9 @@ class IMKStorey:
     def _piece(self, d, target):
         """One linear piece from the current point towards `target`, to its first event."""
         u, f, k = self.u, self.f, self.k
+        if f != 0.0 and (u >= self.pos.du if d > 0 else u <= -self.neg.du):
+            self._flags(d)  # moving on beyond an ultimate drift: that side's strength is gone at once
+            return
         near, kb = self._ahead(d)
         fb = self.backbone(d, u)
         if d * (fb - f) < 0.0:  # a deteriorated backbone below the point: onto it
@@ -331,10 +353,15 @@ class IMKStorey:
         follow = gap == 0.0 and kb <= k
         if follow:
             self.on_backbone = True
-        candidates = [(d * (target - u), END), (near, KINK)]
+            if f == 0.0 and kb == 0.0 and u * d <= 0.0 and self._zero_backbone(d):
+                return
+        reach = d * (target - u)
+        candidates = [(reach, END), (near, KINK)]
         if not follow:
             if k > kb:
-                candidates.append((gap / (k - kb), TOUCH))
+                touch = gap / (k - kb)
+                if touch < reach - _CORNER * self.pos.fy0 / self.ke:  # one at the end is the end: not on it yet
+                    candidates.append((touch, TOUCH))
             if not self.on_backbone and self.failure > ELASTIC and f * d < 0.0 and k > 0.0:
                 candidates.append((-f * d / k, CROSS))
         if d > 0 and u < self.pos.du:
