@@ -311,6 +311,16 @@ class IMKStorey:
 
     # ---- a move ---------------------------------------------------------------------------
 
+    def turn(self, d):
+        """Start moving in direction d (+1 / -1) where the storey stands: a reversal if it is on the
+        backbone and d goes against its force (or from zero force towards zero drift); then `k` is
+        the slope the move leaves along.  (`move` does it first.)"""
+        if self.failure != LOST and self.on_backbone and (self.f * d < 0.0 or (self.f == 0.0 and self.u * d <= 0.0)):
+            if self._reverse():
+                self.failure = LOST
+                self.f = 0.0
+                self._note(f"failure {LOST}")
+
     def move(self, target):
         """Take the drift monotonically to `target` [m] through every event on the way; the force
         there [N].  (A path with turns is a sequence of moves, one per leg.)"""
@@ -318,10 +328,7 @@ class IMKStorey:
         if target == self.u:
             return self.f
         d = 1 if target > self.u else -1
-        if self.failure != LOST and self.on_backbone and (self.f * d < 0.0 or (self.f == 0.0 and self.u * d <= 0.0)):
-            if self._reverse():
-                self.failure = LOST
-                self._note(f"failure {LOST}")
+        self.turn(d)
         crossed = self._crossed_at == self.u  # an excursion that ended the last move is this crossing
         self._crossed_at = None
         while self.failure != LOST:

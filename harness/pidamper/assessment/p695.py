@@ -98,11 +98,19 @@ def pushover(params, points=400):
 
 
 def _finish(params, roof, shear, v_max, delta_u, m, phi, omega, limit):
-    weight = params.g * m.sum()
+    delta_y, mu_t = period_based_ductility(params.g, m, phi, omega, v_max, delta_u)
+    return Pushover(roof, shear, float(v_max), float(delta_u), delta_y, mu_t, params.g * m.sum(), limit)
+
+
+def period_based_ductility(g, m, phi, omega, v_max, delta_u):
+    """(delta_y,eff [m], mu_T) of a pushover peaking at base shear v_max [N] and ending at roof
+    delta_u [m] (FEMA P-695 Eqs. 6-7, 6-8: C0 from the first mode phi, omega [rad/s], of masses m
+    [kg] under gravity g [m/s2])."""
+    weight = g * m.sum()
     c0 = phi[-1] * np.sum(m * phi) / np.sum(m * phi ** 2)
     period = 2.0 * math.pi / omega
-    delta_y = c0 * (v_max / weight) * params.g / (4.0 * math.pi ** 2) * period ** 2
-    return Pushover(roof, shear, float(v_max), float(delta_u), float(delta_y), float(delta_u / delta_y), weight, limit)
+    delta_y = c0 * (v_max / weight) * g / (4.0 * math.pi ** 2) * period ** 2
+    return float(delta_y), float(delta_u / delta_y)
 
 
 @dataclass

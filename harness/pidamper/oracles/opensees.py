@@ -215,26 +215,7 @@ def pushover_curve(masses, stiffnesses, yield_forces, ratios, heights, p_delta, 
     increments (DisplacementControl, Newton); returns (roof displacements [m], base shears [N])."""
     ops = shear_building(masses, stiffnesses, yield_forces, ratios, heights, 0.0, p_delta, g)
     n = len(masses)
-    ops.timeSeries("Linear", 1)
-    ops.pattern("Plain", 1, 1)
-    for k, value in enumerate(pattern, start=1):
-        ops.load(k, float(value))
-    ops.constraints("Plain")
-    ops.numberer("Plain")
-    ops.system("FullGeneral")
-    ops.test("NormDispIncr", 1e-12, 50)
-    ops.algorithm("Newton")
-    ops.integrator("DisplacementControl", n, 1, float(roof_target) / steps)
-    ops.analysis("Static")
-    total = float(sum(pattern))
-    roof, shear = [0.0], [0.0]
-    for _ in range(int(steps)):
-        if ops.analyze(1) != 0:
-            break
-        roof.append(ops.nodeDisp(n, 1))
-        shear.append(ops.getLoadFactor(1) * total)
-    ops.wipe()
-    return roof, shear
+    return _static_pushover(ops, n, pattern, roof_target, steps)
 
 
 def imk_material(params, strains):
@@ -255,3 +236,46 @@ def imk_material(params, strains):
         s = ops.getStress()
         out.append(s if s == s else None)
     return out
+
+
+def imk_pushover_curve(masses, laws, heights, p_delta, pattern, roof_target, steps, g=9.81):
+    """OpenSees's static pushover of a shear building of `IMKBilin` storeys (zeroLength elements,
+    each law 21 numbers in the command's order) with P-Delta as parallel `Elastic(-P/h)` springs:
+    lateral loads proportional to `pattern`, the roof driven to roof_target [m] in `steps` equal
+    increments (DisplacementControl, Newton); (roof displacements [m], base shears [N])."""
+    ops = load()
+    n = len(masses)
+    _floors(ops, masses)
+    for k in range(1, n + 1):
+        ops.uniaxialMaterial("IMKBilin", k, *[float(v) for v in laws[k - 1]])
+        ops.element("zeroLength", k, k - 1, k, "-mat", k, "-dir", 1)
+        if p_delta:
+            ops.uniaxialMaterial("Elastic", 100 + k, -g * sum(masses[k - 1:]) / float(heights[k - 1]))
+            ops.element("zeroLength", 100 + k, k - 1, k, "-mat", 100 + k, "-dir", 1)
+    return _static_pushover(ops, n, pattern, roof_target, steps)
+
+
+def _static_pushover(ops, n, pattern, roof_target, steps):
+    """Push the building in the domain (floors 1..n) by lateral loads proportional to `pattern`,
+    the roof driven to roof_target [m] in `steps` equal increments (DisplacementControl, Newton,
+    until done or a step fails); (roof displacements [m], base shears [N])."""
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    for k, value in enumerate(pattern, start=1):
+        ops.load(k, float(value))
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("FullGeneral")
+    ops.test("NormDispIncr", 1e-12, 50)
+    ops.algorithm("Newton")
+    ops.integrator("DisplacementControl", n, 1, float(roof_target) / steps)
+    ops.analysis("Static")
+    total = float(sum(pattern))
+    roof, shear = [0.0], [0.0]
+    for _ in range(int(steps)):
+        if ops.analyze(1) != 0:
+            break
+        roof.append(ops.nodeDisp(n, 1))
+        shear.append(ops.getLoadFactor(1) * total)
+    ops.wipe()
+    return roof, shear
