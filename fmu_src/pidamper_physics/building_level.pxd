@@ -85,7 +85,7 @@ cdef class BuildingFlight(ModalFlight):
     cdef public list _z, start_floors, z0
     cdef Py_ssize_t _j, _n
 
-    cpdef take_peaks(self, peaks, double tau, ground)
+    cpdef take_peaks(self, peaks, double tau, ground, guards=*)
 
     cpdef list state(self, double tau)
 
@@ -116,9 +116,11 @@ cdef class WithStoreys:
 
     cpdef others(self, double tau)
 
-    cpdef take_peaks(self, peaks, double tau, ground)
+    cpdef take_peaks(self, peaks, double tau, ground, guards=*)
 
     cpdef tuple values(self, double tau)
+
+    cpdef tuple guard(self, double tau, Py_ssize_t i)
 
     cpdef tuple derivs(self, double tau, Py_ssize_t i)
 

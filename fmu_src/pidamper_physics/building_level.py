@@ -438,9 +438,10 @@ class BuildingFlight(ModalFlight):
     """Free flight of the building and the particle: z = (x_1..x_N, y, v_1..v_N, u); guards as in
     ModalFlight on the gap x_j - y."""
 
-    def take_peaks(self, peaks, tau, ground):
-        """Raise the building's running maxima (peaks.Peaks) over [0, tau] of this piece."""
-        take_peaks(self, peaks, tau, ground, self._n + 1, self._j, self.f)
+    def take_peaks(self, peaks, tau, ground, guards=None):
+        """Raise the building's running maxima (peaks.Peaks) over [0, tau] of this piece (guards: the
+        yielding storeys' StoreyGuards on its motion, or None)."""
+        take_peaks(self, peaks, tau, ground, self._n + 1, self._j, self.f, guards)
 
     __slots__ = ("_tau", "_z", "start_floors", "z0", "_j", "_n")
 
@@ -503,7 +504,7 @@ class WithStoreys:
 
     def __init__(self, seg, storeys, T, contacts):
         self.seg, self.contacts = seg, contacts
-        self.storey = guards = StoreyGuards(storeys, seg.motion, T)
+        self.storey = guards = StoreyGuards(storeys, seg.motion, T, 4)  # (its pieces start from seg)
         self.bounds = _larger(seg.bounds, guards.bounds)
         self.noise = _larger(seg.noise, guards.noise)
         self.growth = max(seg.growth, guards.growth)
@@ -527,11 +528,18 @@ class WithStoreys:
     def others(self, tau):
         return self.seg.others(tau)
 
-    def take_peaks(self, peaks, tau, ground):
-        self.seg.take_peaks(peaks, tau, ground)
+    def take_peaks(self, peaks, tau, ground, guards=None):
+        self.seg.take_peaks(peaks, tau, ground, self.storey)
 
     def values(self, tau):
-        return tuple(self.seg.values(tau)) + tuple(self.storey.values(tau))
+        return self.seg.values(tau) + tuple(self.storey.values(tau))  # (the segments' values are tuples)
+
+    def guard(self, tau, i):
+        """(g, g') of guard i alone, as values() gives them."""
+        if i < self.contacts:
+            values = self.seg.values(tau)
+            return values[2 * i], values[2 * i + 1]
+        return self.storey.guard(tau, i - self.contacts)
 
     def derivs(self, tau, i):
         if i < self.contacts:

@@ -5,6 +5,7 @@ gaps to the two stops in free flight, the contact force while riding a stop, the
 overlap while the angle form passes through a stop), plus
 
     seg.values(tau)    -> (g_0, dg_0, g_1, dg_1, ...)  cheap, used while far from zero
+    seg.guard(tau, i)  -> (g_i, dg_i)                 optional: guard i alone, where that costs less
     seg.derivs(tau, i) -> (g, dg, d2g, d3g)        of guard i, used only next to a zero
     seg.bounds         =  (B2, B3, B4)             bounds of the 2nd..4th derivatives (all guards)
     seg.noise          =  (n0, n1, n2, n3)         rounding level of g and its first 3 derivatives at tau = 0
@@ -171,14 +172,19 @@ def _near_zero(seg, i, tau, tau_end, n0, base, scale, fresh):
 
 
 def _newton(seg, i, tau, g, g1):
-    """Root of guard i next to tau (transversal, so Newton converges quadratically)."""
+    """Root of guard i next to tau (transversal, so Newton converges quadratically); the guard
+    evaluated alone where the segment can (seg.guard), else taken from seg.values."""
+    alone = getattr(seg, "guard", None)
     for _ in range(6):
         nxt = max(tau - g / g1, 0.0)
         if nxt == tau:
             break
         tau = nxt
-        values = seg.values(tau)
-        g, g1 = values[2 * i], values[2 * i + 1]
+        if alone is None:
+            values = seg.values(tau)
+            g, g1 = values[2 * i], values[2 * i + 1]
+        else:
+            g, g1 = alone(tau, i)
         if g1 >= 0.0:
             break
     return tau

@@ -18,10 +18,29 @@ cpdef double complex _exp(double complex z) except *
                omc=cython.double, em=cython.doublecomplex)
 cpdef tuple exp_pair(double complex z)
 
+@cython.locals(k=cython.Py_ssize_t, term=cython.doublecomplex, total=cython.doublecomplex)
+cpdef double complex phi1(double complex w) except *
+
+@cython.locals(a=cython.double, b=cython.double, ea=cython.double, h=cython.double, omc=cython.double)
+cpdef double complex _exp_lead(double complex z) except *
+
+@cython.locals(w=cython.doublecomplex)
+cpdef double complex _spread(double complex s, double complex lam, double tau, double complex es,
+                             double complex el) except *
+
+@cython.locals(a=cython.double, gap_p=cython.double, gap_m=cython.double, ga_p=cython.double, ga_m=cython.double,
+               p_p=cython.double, p_m=cython.double, w=cython.double, j=cython.Py_ssize_t, q=cython.double,
+               steady=cython.double, add_p=cython.double, add_m=cython.double, column=list)
+cdef int _forced_bounds(list columns, Py_ssize_t k, double complex lam, double complex gp, double complex gm,
+                        double om, list pk, double T, Py_ssize_t orders) except -1
+
 @cython.locals(k=cython.Py_ssize_t, z=cython.doublecomplex, a=cython.double, b=cython.double,
                el=cython.doublecomplex, em=cython.doublecomplex, ea=cython.double, h=cython.double,
                omc=cython.double, e0=cython.doublecomplex, c=cython.doublecomplex)
 cpdef list _free(list lams, list eta0, list shift, double tau)
+
+@cython.locals(k=cython.Py_ssize_t, x=cython.doublecomplex, g=cython.doublecomplex)
+cpdef list _plus_scaled(list d, list gamma, double s)
 
 @cython.locals(k=cython.Py_ssize_t, lam=cython.doublecomplex, e=cython.doublecomplex, c=cython.doublecomplex)
 cpdef list _rates(list lams, list eta, list shift)
@@ -82,7 +101,9 @@ cdef class Motion:
                    eip=cython.doublecomplex)
     cpdef _project(self, Modes modes, z0, b, f, double psi)
 
-    @cython.locals(k=cython.Py_ssize_t, lams=list)
+    @cython.locals(k=cython.Py_ssize_t, lams=list, gp=list, gm=list, sp=cython.doublecomplex,
+                   e_plus=cython.doublecomplex, e_minus=cython.doublecomplex, lam=cython.doublecomplex,
+                   el=cython.doublecomplex, o=cython.doublecomplex, g=cython.doublecomplex, h=cython.doublecomplex)
     cpdef list modal(self, double tau)
 
     @cython.locals(out=list, weight=list, m=Modes)
@@ -110,8 +131,7 @@ cdef class Motion:
     @cython.locals(m=Modes)
     cpdef list rest(self, rows=*, vectors=*)
 
-    @cython.locals(m=Modes, om=cython.double, per_mode=list, k=cython.Py_ssize_t, j=cython.Py_ssize_t,
-                   lam=cython.doublecomplex, a=cython.double, ck=cython.doublecomplex, size=cython.double,
-                   row=list, grow=cython.double, powers=list, pk=list, om_powers=list, p=cython.double, columns=list,
-                   column=list)
+    @cython.locals(m=Modes, lams=list, count=cython.Py_ssize_t, k=cython.Py_ssize_t, j=cython.Py_ssize_t,
+                   lam=cython.doublecomplex, a=cython.double, size=cython.double, grow=cython.double, powers=list,
+                   pk=list, p=cython.double, columns=list)
     cpdef list _columns_over(self, double T, Py_ssize_t orders)

@@ -40,10 +40,10 @@ _INF = math.inf
 def phi1(w):
     """(exp(w) - 1) / w for complex w, accurate for every w (series near 0)."""
     if abs(w) > _SERIES:
-        return (cmath.exp(w) - 1.0) / w
-    term = total = 1.0 + 0j
+        return _quot(_exp(w) - 1.0, w)
+    term = total = _cx.parts(1.0, 0.0)
     for k in range(2, 16):
-        term = term * w / k
+        term = _quot(term * w, _cx.parts(k, 0.0))  # term * w / k, as CPython divides by k + 0j
         total += term
     return total
 
@@ -71,6 +71,17 @@ def exp_pair(z):
     omc = 2.0 * h * h  # 1 - cos(b)
     em = _cx.parts(ea - ea * omc - omc, (1.0 + ea) * 2.0 * h * _libm.cos(0.5 * b))
     return em + 1.0, em
+
+
+def _exp_lead(z):
+    """exp_pair(z)[0], without its pair."""
+    a, b = z.real, z.imag
+    if a * a + b * b > 0.25:
+        return _exp(z)
+    ea = _libm.expm1(a)
+    h = _libm.sin(0.5 * b)
+    omc = 2.0 * h * h
+    return _cx.parts(ea - ea * omc - omc, (1.0 + ea) * 2.0 * h * _libm.cos(0.5 * b)) + 1.0
 
 
 class ModesError(ValueError):
@@ -268,7 +279,7 @@ class Motion:
         """The start z0, the held load b and the harmonic's amplitudes f in modal coordinates: eta0,
         coef, steady (and gamma, gp, gm if forced) per kept mode, beta per secular one."""
         n = modes.n
-        eip = cmath.exp(1j * psi)
+        eip = cmath.exp(1j * psi) if self.forced else 0j
         lams = modes.lam
         for k in range(len(lams)):
             w = modes.W[k]
@@ -292,6 +303,8 @@ class Motion:
         """Modal coordinates eta_k(tau) of the kept modes (the list is shared: do not change it)."""
         if tau == self._at:  # the guards of several segments ask at one tau
             return self._eta
+        if tau == 0.0:  # the closed form gives eta0 there (at most a zero's sign apart, which no sum of
+            return self.eta0  # the components sees: they add from +0.0)
         lams, eta0 = self.modes.lam, self.eta0
         forced = self.forced
         if forced:
@@ -299,10 +312,13 @@ class Motion:
             e_plus, e_minus = _exp(sp * tau), _exp(-sp * tau)
         out = _free(lams, eta0, self.steady, tau)
         if forced:
+            gp, gm = self.gp, self.gm
             for k in range(len(lams)):
                 lam = lams[k]
-                el = exp_pair(lam * tau)[0]
-                out[k] += self.gp[k] * _spread(sp, lam, tau, e_plus, el) + self.gm[k] * _spread(-sp, lam, tau, e_minus, el)
+                el = _exp_lead(lam * tau)
+                o = out[k]
+                g, h = gp[k], gm[k]
+                out[k] = o + (g * _spread(sp, lam, tau, e_plus, el) + h * _spread(-sp, lam, tau, e_minus, el))
         if self.secular:  # their steady part is 0: the held load's part is beta tau phi1(lam tau)
             for i, k in enumerate(self.secular):
                 out[k] += self.beta[i] * tau * phi1(lams[k] * tau)
@@ -367,13 +383,13 @@ class Motion:
         s = c = 0.0  # the harmonic's sin and cos (forced only)
         if self.forced:
             s, c = self.load(tau)
-            d = [x + g * s for x, g in zip(d, self.gamma)]
+            d = _plus_scaled(d, self.gamma, s)
         levels.append(d)
         for j in range(2, orders):  # d/dtau of gamma sin: gamma Omega cos, -gamma Omega^2 sin, ...
             d = _rates(lams, d, None)
             if self.forced:
                 term = self.om ** (j - 1) * (c, -s, -c, s)[(j - 2) % 4]
-                d = [x + g * term for x, g in zip(d, self.gamma)]
+                d = _plus_scaled(d, self.gamma, term)
             levels.append(d)
         return levels
 
@@ -408,49 +424,31 @@ class Motion:
         """Per order j < orders, per kept mode: the bound of |eta_k^(j)| (j = 0: of its swing about
         the constant part) over [0, T]."""
         m = self.modes
-        om = self.om
+        lams = m.lam
+        count = len(lams)
         powers = m.powers(orders)  # per mode |lam|^j
-        if self.forced:
-            om_powers = [om ** j for j in range(orders)]
-        per_mode = []
-        for k in range(len(m.lam)):
+        columns = [[0.0] * count for j in range(orders)]  # per order, by mode
+        for k in range(count):
             pk = powers[k]
-            ck = self.coef[k]
-            size = abs(ck)
-            row = [0.0] * orders
+            size = abs(self.coef[k])
             for j in range(orders):
                 p = pk[j]
-                row[j] = size * p
+                columns[j][k] = size * p
             if self.forced:
-                lam = m.lam[k]
-                a = abs(lam)
-                for g, s in ((self.gp[k], 1j * om), (self.gm[k], -1j * om)):
-                    ga = abs(g)
-                    gap = abs(s - lam)
-                    p = ga * T  # secular bound of the forced part, then its derivatives
-                    for j in range(orders):
-                        steady = ga * (om_powers[j] + pk[j]) / gap if gap > 0.0 else math.inf
-                        row[j] += min(p, steady)
-                        p = a * p + ga * om_powers[j]
-            per_mode.append(row)
+                _forced_bounds(columns, k, lams[k], self.gp[k], self.gm[k], self.om, pk, T, orders)
         for i, k in enumerate(self.secular):  # eta^(j) = lam^(j-1) exp(lam tau) (lam eta0 + beta), j >= 1
-            lam, a = m.lam[k], abs(m.lam[k])
+            lam, a = lams[k], abs(lams[k])
             slope = abs(lam * self.eta0[k] + self.beta[i])
             free = [abs(self.eta0[k]) + T * slope] + [slope * a ** (j - 1) for j in range(1, orders)]
-            per_mode[k] = [f + r - abs(self.coef[k]) * a ** j for j, (f, r) in enumerate(zip(free, per_mode[k]))]
+            for j in range(orders):
+                columns[j][k] = free[j] + columns[j][k] - abs(self.coef[k]) * a ** j
         if m.growth_rate:  # growing modes: |exp(lam tau)| <= exp(Re lam T) on [0, T]
-            for k in range(len(m.lam)):
-                lam = m.lam[k]
+            for k in range(count):
+                lam = lams[k]
                 if lam.real > 1e-9 * m.fastest:
                     grow = math.exp(lam.real * T)
-                    per_mode[k] = [r * grow for r in per_mode[k]]
-        columns = []  # per order, by mode
-        for j in range(orders):
-            column = [0.0] * len(per_mode)
-            for k in range(len(per_mode)):
-                row = per_mode[k]
-                column[k] = row[j]
-            columns.append(column)
+                    for j in range(orders):
+                        columns[j][k] = columns[j][k] * grow
         return columns
 
     def rest(self, rows=None, vectors=None):
@@ -468,6 +466,32 @@ def _spread(s, lam, tau, es, el):
     if abs(w) > _SERIES:
         return _quot(es - el, s - lam)
     return tau * el * phi1(w)
+
+
+def _forced_bounds(columns, k, lam, gp, gm, om, pk, T, orders):
+    """Add to mode k's entries of `columns` (per order j < orders) the bounds of its forced parts
+    g+- E(+-i Omega) and their derivatives over [0, T]: the lesser of the secular bound and the
+    steady one (pk: |lam|^j)."""
+    a = abs(lam)
+    gap_p = abs(1j * om - lam)
+    gap_m = abs(-1j * om - lam)
+    ga_p = abs(gp)
+    ga_m = abs(gm)
+    p_p = ga_p * T  # the secular bounds of the forced parts, then of their derivatives
+    p_m = ga_m * T
+    w = 1.0  # om^j
+    for j in range(orders):
+        if j:
+            w = om ** j
+        q = pk[j]
+        steady = ga_p * (w + q) / gap_p if gap_p > 0.0 else _INF
+        add_p = steady if steady < p_p else p_p  # min(p_p, steady)
+        steady = ga_m * (w + q) / gap_m if gap_m > 0.0 else _INF
+        add_m = steady if steady < p_m else p_m
+        column = columns[j]
+        column[k] = (column[k] + add_p) + add_m
+        p_p = a * p_p + ga_p * w
+        p_m = a * p_m + ga_m * w
 
 
 def _free(lams, eta0, shift, tau):
@@ -491,6 +515,16 @@ def _free(lams, eta0, shift, tau):
         e0 = eta0[k]
         c = shift[k]
         out[k] = el * e0 - c * em
+    return out
+
+
+def _plus_scaled(d, gamma, s):
+    """[d_k + gamma_k s] (complex d, gamma; real s, multiplied as the complex (s, 0.0))."""
+    out = [0j] * len(d)
+    for k in range(len(d)):
+        x = d[k]
+        g = gamma[k]
+        out[k] = x + g * s
     return out
 
 

@@ -3,6 +3,7 @@
 import cython
 
 from .modal cimport Motion, _dot_real
+from .peaks cimport Piece
 
 
 cdef class ModalFlight:
@@ -41,7 +42,8 @@ cpdef double _pair_dot_abs(p, z, q, Py_ssize_t n) except? -1.0
 cpdef double complex _mode_row(p, q, V, Py_ssize_t n, Py_ssize_t k) except *
 
 @cython.locals(rows=cython.Py_ssize_t, r=cython.Py_ssize_t, acc=list, jerk=list, snap=list)
-cpdef tuple chain(z, Py_ssize_t n, K, C, b, Py_ssize_t j, double a, double om, double s, double c, bint full=*)
+cpdef tuple chain(z, Py_ssize_t n, K, C, b, Py_ssize_t j, double a, double om, double s, double c, bint full=*,
+                  Py_ssize_t first=*)
 
 
 cdef class ModalStick:
@@ -65,7 +67,7 @@ cdef class ModalStick:
 
     cpdef tuple _chain(self, double tau)
 
-    cpdef take_peaks(self, peaks, double tau, ground)
+    cpdef take_peaks(self, peaks, double tau, ground, guards=*)
 
     @cython.locals(x=list, v=list, acc=list, s=cython.double, c=cython.double, sg=cython.double, a=cython.double,
                    om=cython.double, n=cython.Py_ssize_t)
@@ -76,8 +78,8 @@ cdef class ModalStick:
     cpdef tuple derivs(self, double tau, Py_ssize_t i=*)
 
 
-cdef class ModalPiece:
-    cdef public object seg
+cdef class ModalPiece(Piece):
+    cdef public object seg, guards
     cdef public Py_ssize_t n, j, floors
     cdef public double a, tau
 

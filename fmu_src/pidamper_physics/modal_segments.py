@@ -13,6 +13,7 @@ ground, whatever the level.
 import math
 
 from .modal import Motion, _dot_real
+from .peaks import Piece
 from .segments import TOLERANCE, noise_size
 
 _ORDERS = 6  # derivative bounds up to the 5th: the stick guard needs x^(5) for its 4th
@@ -38,7 +39,9 @@ class ModalFlight:
         self.K, self.C, self.b, self.f, self.om, self.D, self.gap = K, C, b, a, om, D, gap
         self.growth = max(modes.fastest, om if a != 0.0 else 0.0)
         rows = (ix, iy, n + ix, n + iy)  # x, y, v, u: the components the gap needs
-        self._guard(motion.bounds(T, _ORDERS, rows), motion.rest(rows), [z0[i] for i in rows], T, D)
+        # (_guard reads the bounds of x and y to the 4th order, of v and u to the 2nd)
+        bounds = motion.bounds(T, 5, (ix, iy)) + motion.bounds(T, 3, (n + ix, n + iy))
+        self._guard(bounds, motion.rest(rows), [z0[i] for i in rows], T, D)
 
     def _guard(self, B, rest, start, T, D):
         """clear, bounds and noise of the gap's guards from the bounds B of x, y, v, u over [0, T],
@@ -145,9 +148,10 @@ class ModalStick:
         s, c = self.motion.load(tau)
         return chain(self.state(tau), self.n, self.K, self.C, self.b, self.j, self.a, self.om, s, c) + (s, c)
 
-    def take_peaks(self, peaks, tau, ground):
-        """Raise a building's running maxima (peaks.Peaks) over [0, tau] of this piece."""
-        take_peaks(self, peaks, tau, ground, self.n, self.j, self.a)
+    def take_peaks(self, peaks, tau, ground, guards=None):
+        """Raise a building's running maxima (peaks.Peaks) over [0, tau] of this piece (guards: the
+        yielding storeys' StoreyGuards on its motion, or None)."""
+        take_peaks(self, peaks, tau, ground, self.n, self.j, self.a, guards)
 
     def values(self, tau):
         x, v, acc, _, _, s, c = self._chain(tau)
@@ -193,16 +197,18 @@ def _mode_row(p, q, V, n, k):
     return s
 
 
-def chain(z, n, K, C, b, j, a, om, s, c, full=True):
+def chain(z, n, K, C, b, j, a, om, s, c, full=True, first=-1):
     """(x, v, acc, jerk, snap) of q'' + C q' + K q = b + e_j a sin(Omega tau + psi) at the state
-    z = (q, q') of n DOF, given s, c = sin, cos(Omega tau + psi); jerk and snap None unless full."""
+    z = (q, q') of n DOF, given s, c = sin, cos(Omega tau + psi); jerk and snap None unless full
+    (and then acc of the `first` DOF only, if first >= 0)."""
     x, v = z[:n], z[n:]
-    rows = len(K)
+    rows = len(K) if full or first < 0 else first
     # _dot_real forms and adds the products in the order of a sum over k (sum(map(mul, row, x)) did)
     acc = [0.0] * rows
     for r in range(rows):
         acc[r] = b[r] - _dot_real(K[r], x) - _dot_real(C[r], v)
-    acc[j] += a * s
+    if j < rows:
+        acc[j] += a * s
     if not full:
         return x, v, acc, None, None
     jerk = [0.0] * rows
@@ -216,20 +222,23 @@ def chain(z, n, K, C, b, j, a, om, s, c, full=True):
     return x, v, acc, jerk, snap
 
 
-def take_peaks(seg, peaks, tau, ground, n, j, a):
+def take_peaks(seg, peaks, tau, ground, n, j, a, guards=None):
     """Raise `peaks` (a building's running maxima, floors = the first DOF of the segment's system
-    of n DOF, the harmonic a sin on DOF j) over [0, tau] of `seg`, under ground acceleration `ground`."""
-    peaks.take(ModalPiece(seg, n, j, a, tau, peaks.n), tau, ground)
+    of n DOF, the harmonic a sin on DOF j) over [0, tau] of `seg`, under ground acceleration `ground`
+    (guards: the yielding storeys' StoreyGuards on the segment's motion, or None)."""
+    peaks.take(ModalPiece(seg, n, j, a, tau, peaks.n, guards), tau, ground)
 
 
-class ModalPiece:
+class ModalPiece(Piece):
     """A closed-form piece [0, tau] of a modal segment as peaks.Peaks searches it: the floors are
-    the first `floors` DOF of its n-DOF system."""
+    the first `floors` DOF of its n-DOF system; `guards`: the storeys' StoreyGuards on the same
+    motion (their drifts' bounds over their span are this piece's when it has that length), or None."""
 
-    __slots__ = ("seg", "n", "j", "a", "tau", "floors")
+    __slots__ = ("seg", "n", "j", "a", "tau", "floors", "guards")
 
-    def __init__(self, seg, n, j, a, tau, floors):
+    def __init__(self, seg, n, j, a, tau, floors, guards=None):
         self.seg, self.n, self.j, self.a, self.tau, self.floors = seg, n, j, a, tau, floors
+        self.guards = guards
 
     def start(self):
         """(x, v, acc, jerk, snap) of every DOF at tau = 0."""
@@ -241,15 +250,18 @@ class ModalPiece:
         """(x, v, acc) of every DOF at tau = 0, as start() gives them."""
         seg = self.seg
         s, c = seg.motion.load(0.0)
-        return chain(seg.z0, self.n, seg.K, seg.C, seg.b, self.j, self.a, seg.om, s, c, False)[:3]
+        return chain(seg.z0, self.n, seg.K, seg.C, seg.b, self.j, self.a, seg.om, s, c, False, self.floors)[:3]
 
     def bounds(self, floor_order, drift_order):
         """(per floor the bounds of |x^(floor_order)| and |x^(floor_order + 1)|, per storey the bound
         of its drift's derivative of order drift_order) over the piece."""
-        motion, floors = self.seg.motion, self.floors
-        drifts = motion.modes.weighted_drifts(floors)
-        return (motion.bounds(self.tau, floor_order + 2, None, None, motion.modes.weighted_floors(floors), floor_order),
-                [b[0] for b in motion.bounds(self.tau, drift_order + 1, None, None, drifts, drift_order)])
+        motion, floors, guards = self.seg.motion, self.floors, self.guards
+        if guards is not None and self.tau == guards.span:  # the same sums over the same span
+            drifts = [b[drift_order] for b in guards.drift_bounds]
+        else:
+            weighted = motion.modes.weighted_drifts(floors)
+            drifts = [b[0] for b in motion.bounds(self.tau, drift_order + 1, None, None, weighted, drift_order)]
+        return motion.bounds(self.tau, floor_order + 2, None, None, motion.modes.weighted_floors(floors), floor_order), drifts
 
     def derivatives(self, s, floors):
         """{floor: [x^(lo), ..., x^(hi-1)]} at s of the floors asked for ({floor: (lo, hi)}, hi <= 5)."""

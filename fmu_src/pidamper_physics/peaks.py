@@ -61,6 +61,29 @@ def _cubic_max(f, f1, f2, b3, length):
     return best
 
 
+class Piece:
+    """A closed-form piece [0, tau] of a building's motion as Peaks searches it (the base of each
+    model's pieces): start() -> (x, v, acc, jerk, snap) of the floors at its start, first() -> (x, v,
+    acc) as start() gives them, bounds(floor_order, drift_order) -> (per floor the bounds of
+    |x^(floor_order)| and |x^(floor_order + 1)|, per storey the bound of its drift's derivative of
+    order drift_order) over the piece, derivatives(s, {k: (lo, hi)}) -> {k: [x_k^(lo), ...,
+    x_k^(hi-1)]} at s; every value relative to the ground, floor 1 first."""
+
+    __slots__ = ()
+
+    def start(self):
+        raise NotImplementedError
+
+    def first(self):
+        raise NotImplementedError
+
+    def bounds(self, floor_order, drift_order):
+        raise NotImplementedError
+
+    def derivatives(self, s, floors):
+        raise NotImplementedError
+
+
 class Peaks:
     """Running maxima of a building of storey heights `heights` [m] (storey 1 first); see the
     module doc.  `drift`, `velocity`, `acceleration`: per storey / floor [1, m/s, m/s2];
@@ -71,6 +94,7 @@ class Peaks:
         self.inv_h = [1.0 / h for h in heights]
         self.drift, self.velocity, self.acceleration = [0.0] * n, [0.0] * n, [0.0] * n
         self.v_ground = 0.0
+        self._begun = None  # take()'s: the piece's start() when _stays_below has it
 
     # ---- state ------------------------------------------------------------------------
 
@@ -105,10 +129,14 @@ class Peaks:
         piece is not searched."""
         n, ih = self.n, self.inv_h
         vg = self.v_ground
+        self._begun = None
         if tau > 0.0 and self._stays_below(piece, tau, a_g):
+            self._begun = None
             self.v_ground = vg + a_g * tau
             return
-        x, v, acc, jerk, snap = piece.start()
+        begun = self._begun  # piece.start(), if _stays_below asked for it
+        self._begun = None
+        x, v, acc, jerk, snap = piece.start() if begun is None else begun
         b, drift = piece.bounds(4, 3)
         active, values = [], []
         xb = vb = ab = 0.0  # the floor below's (the ground's: unused)
@@ -137,17 +165,21 @@ class Peaks:
 
     def _stays_below(self, piece, tau, a_g):
         """Raise the maxima to the piece's start; then whether every quantity stays at or below its
-        maximum over the piece by the first-order bound |f(s)| <= |f(0)| + s max|f'| (with room
-        _SURE for the rounding of the values a search would compute), so that no search could raise
-        it.  `piece` gives first() -> (x, v, acc) as start() gives them and bounds(2, 1) -> (per
-        floor the bounds of |x''| and |x'''|, per storey the bound of its drift's first derivative)
+        maximum over the piece (with room _SURE for the rounding of the values a search would
+        compute), so that no search could raise it: by the first-order bound |f(s)| <= |f(0)| +
+        s max|f'|, or where that fails by the second-order one |f(s)| <= max(|f(0)|, |f(0) +
+        s f'(0)|) + s^2/2 max|f''| (for an acceleration from piece.start(), kept for take()).
+        `piece` gives first() -> (x, v, acc) as start() gives them and bounds(m, d) -> (per floor the
+        bounds of |x^(m)| and |x^(m+1)|, per storey the bound of its drift's derivative of order d)
         over the piece."""
         n, ih, vg = self.n, self.inv_h, self.v_ground
         drift, velocity, acceleration = self.drift, self.velocity, self.acceleration
         x, v, acc = piece.first()
         b, db = piece.bounds(2, 1)
+        more = begun = None  # bounds(3, 2) and start(), asked for when a second order needs them
         below = True
-        xb = 0.0
+        xb = vb = 0.0
+        half = 0.5 * tau * tau
         for k in range(n):
             h = ih[k]
             xk, vk, ak = x[k], v[k], acc[k]
@@ -160,11 +192,27 @@ class Peaks:
             if below:
                 bk = b[k]
                 slope, curve = bk[0], bk[1]
-                end = abs(u + a_g * tau)  # |v_k + v_g| moves by at most tau max|x''| beside the ground's own
-                below = ((abs(d) + tau * db[k] * h) * _SURE <= drift[k]
-                         and ((abs(u) if abs(u) >= end else end) + tau * slope) * _SURE <= velocity[k]
-                         and (abs(w) + tau * curve) * _SURE <= acceleration[k])
-            xb = xk
+                below = (abs(w) + tau * curve) * _SURE <= acceleration[k]
+                if not below:  # second order: the jerk at the start, the bound of x^(4)
+                    if begun is None:
+                        begun = piece.start()
+                    if more is None:
+                        more = piece.bounds(3, 2)
+                    end = abs(w + tau * begun[3][k])
+                    below = ((abs(w) if abs(w) >= end else end) + half * more[0][k][1]) * _SURE <= acceleration[k]
+                if below:
+                    end = abs(u + a_g * tau)  # |v_k + v_g| moves by at most tau max|x''| beside the ground's own
+                    if ((abs(u) if abs(u) >= end else end) + tau * slope) * _SURE > velocity[k]:
+                        end = abs(u + tau * w)  # ... or by tau (x_k'' + a_g) and s^2/2 max|x'''|
+                        below = ((abs(u) if abs(u) >= end else end) + half * curve) * _SURE <= velocity[k]
+                if below and (abs(d) + tau * db[k] * h) * _SURE > drift[k]:
+                    if more is None:
+                        more = piece.bounds(3, 2)
+                    rate = (vk - vb) * h if k else vk * h
+                    end = abs(d + tau * rate)
+                    below = ((abs(d) if abs(d) >= end else end) + half * more[1][k] * h) * _SURE <= drift[k]
+            xb, vb = xk, vk
+        self._begun = begun
         return below
 
     def _raise(self, kind, k, f):

@@ -7,7 +7,7 @@ import cython
 from .building cimport ShearBuilding
 from .modal cimport _matrix_sum
 from .oscillator cimport DampedOscillator
-from .peaks cimport Peaks
+from .peaks cimport Peaks, Piece
 
 
 @cython.locals(out=list, row=list, k=cython.Py_ssize_t, r=cython.Py_ssize_t, total=cython.double,
@@ -50,9 +50,13 @@ cpdef list elastic_observables(ShearBuilding b, list q, list qd, forces, Peaks p
 cdef class ShearMotion
 
 
-cdef class ShearPiece:
+cdef class ShearPiece(Piece):
     cdef public ShearMotion motion
     cdef public double tau
+
+    cpdef tuple start(self)
+
+    cpdef dict derivatives(self, double s, dict floors)
 
     @cython.locals(out=list, mode=DampedOscillator, q=cython.double, q1=cython.double, c=cython.double,
                    k=cython.double, levels=list)

@@ -28,7 +28,7 @@ from .modal import _matrix_sum
 from .oscillator import DampedOscillator
 from .params import ParameterError, check_building, check_finite
 from .refusals import check_step
-from .peaks import Peaks
+from .peaks import Peaks, Piece
 from .stepping import at_rest, rest_peaks, unsigned
 
 #: the building of floor masses and storey stiffnesses, checked (params.check_building)
@@ -346,7 +346,7 @@ def floor_derivatives(row, q, lo, hi):
     return out
 
 
-class ShearPiece:
+class ShearPiece(Piece):
     """A piece [0, tau] of a ShearMotion (its modes started) as peaks.Peaks searches it: each mode
     is a damped oscillator under a held load, q'' = p - 2 zeta w q' - w^2 q, so its derivatives
     follow from (q, q') by that recursion."""
@@ -371,7 +371,10 @@ class ShearPiece:
     def start(self):
         n = self.motion.n
         d = self.derivatives(0.0, {k: (0, 5) for k in range(n)})
-        return tuple([d[k][j] for k in range(n)] for j in range(5))
+        out = []
+        for j in range(5):
+            out.append([d[k][j] for k in range(n)])
+        return tuple(out)
 
     def first(self):
         """(x, v, acc) of the floors at the piece's start, as start() gives them."""
@@ -400,5 +403,11 @@ class ShearPiece:
     def derivatives(self, s, floors):
         """{floor: [x^(lo), ..., x^(hi-1)]} at s of the floors asked for ({floor: (lo, hi)}, hi <= 5)."""
         phi = self.motion.b.shapes
-        q = self._modal(s, max(hi for _, hi in floors.values()))
-        return {k: floor_derivatives(phi[k], q, lo, hi) for k, (lo, hi) in floors.items()}
+        orders = 0
+        for span in floors.values():
+            orders = max(orders, span[1])
+        q = self._modal(s, orders)
+        out = {}
+        for k, span in floors.items():
+            out[k] = floor_derivatives(phi[k], q, span[0], span[1])
+        return out

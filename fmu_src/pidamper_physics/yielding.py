@@ -31,7 +31,7 @@ import math
 
 from .events import locate
 from .modal import ModesError, Motion, _dot3, solved_modes
-from .peaks import Peaks
+from .peaks import Peaks, Piece
 from .refusals import ParameterError, check_finite, check_step
 from .segments import TOLERANCE
 from .shear_motion import ShearMotion, make_building
@@ -419,18 +419,21 @@ class StoreyGuards:
 
     reach = math.inf
     __slots__ = ("motion", "guards", "bounds", "noise", "growth", "clear", "n", "floors", "span", "drift_bounds",
-                 "first", "last")
+                 "first", "last", "orders")
 
-    def __init__(self, storeys, motion, T):
-        self.motion = motion
-        self.n = n = storeys.n
-        motion = self.motion  # (typed)
+    def __init__(self, storeys, motion, T, orders=5):
+        self._start(storeys.guards(), motion, T, storeys.n, orders)
+
+    def _start(self, guards, motion, T, n, orders):
+        """__init__'s work, typed: `guards` the storeys' (storeys.Hysteresis.guards), n their count."""
+        self.motion, self.n = motion, n
         modes = motion.modes
-        #: per floor [x, x', ..., x^(4)] at the start (the piece's maxima start from them too)
-        self.floors = motion.component_derivatives(0.0, 0, n, 5)
+        #: per floor [x, x', ..., x^(orders - 1)] at the start (RegimePiece's maxima start from them
+        #: too, to the 4th; the guards need them to the 3rd)
+        self.floors = motion.component_derivatives(0.0, 0, n, orders)
         #: per storey the bounds of its drift and its derivatives over [0, span]
         self.span, self.drift_bounds = T, motion.bounds(T, 6, None, None, modes.weighted_drifts(n))
-        self._keep(storeys.guards(), self.drift_bounds, _differences(self.floors, 0, 5), T, modes.fastest)
+        self._keep(guards, self.drift_bounds, _differences(self.floors, 0, orders), T, modes.fastest)
 
     def _keep(self, guards, bd, start, T, growth):
         """Keep the guards that may reach zero on [0, T] (bd: per storey the bounds of its drift's
@@ -438,8 +441,9 @@ class StoreyGuards:
         b2 = b3 = b4 = n0 = n1 = n2 = n3 = 0.0
         tol = TOLERANCE
         kept = []
+        first, last, orders = len(start), 0, 2
         for guard in guards:
-            i, order, coef, offset, _ = guard
+            i, order, coef, offset = guard[0], guard[1], guard[2], guard[3]
             c, di, bi = abs(coef), start[i], bd[i]
             d0, d1, d2 = di[order], di[order + 1], di[order + 2]  # the drift's derivatives at 0 ...
             e1, e2, e3, e4 = bi[order + 1], bi[order + 2], bi[order + 3], bi[order + 4]  # ... and their bounds
@@ -448,6 +452,9 @@ class StoreyGuards:
             if least > own * (1.0 + growth * T):
                 continue  # cannot reach zero on [0, T]
             kept.append(guard)
+            first = min(first, i)
+            last = max(last, i + 1)
+            orders = max(orders, order + 2)
             b2 = max(b2, c * e2)
             b3 = max(b3, c * e3)
             b4 = max(b4, c * e4)
@@ -456,9 +463,11 @@ class StoreyGuards:
             n2 = max(n2, c * (e2 + abs(d2)))
             n3 = max(n3, c * e3)
         self.guards = kept
-        # the storeys the kept guards watch lie in [first, last): values() computes only their drifts
-        self.first = min([guard[0] for guard in kept]) if kept else 0
-        self.last = max([guard[0] for guard in kept]) + 1 if kept else 0
+        # the storeys the kept guards watch lie in [first, last), to the derivative `orders` - 1 (a
+        # guard's order and the next): values() computes only those
+        if not kept:
+            first = last = 0
+        self.first, self.last, self.orders = first, last, orders
         self.bounds = (b2, b3, b4)
         self.noise = (n0, tol * n1, tol * n2, tol * n3)
         self.growth = growth if kept else 0.0
@@ -468,13 +477,16 @@ class StoreyGuards:
         """Per storey k (first <= k < last, default all) [delta, delta', ..., delta^(orders - 1)] at tau."""
         last = self.n if last is None else last
         lo = first - 1 if first else 0
+        floors = self.floors
+        if tau == 0.0 and max(orders, 2) <= len(floors[0]):  # the start's, as computed (the same sums)
+            return _differences(floors[lo:last], first, orders)
         return _differences(self.motion.component_derivatives(tau, lo, last, max(orders, 2)), first, orders)
 
     def values(self, tau):
         if not self.guards:
             return []
         first = self.first
-        d = self._drifts(tau, 3, first, self.last)
+        d = self._drifts(tau, self.orders, first, self.last)
         out = []
         for guard in self.guards:
             i, order, coef, offset = guard[0], guard[1], guard[2], guard[3]
@@ -482,6 +494,13 @@ class StoreyGuards:
             out.append(offset + coef * di[order])
             out.append(coef * di[order + 1])
         return out
+
+    def guard(self, tau, index):
+        """(g, g') of guard `index` alone, as values() gives them."""
+        guard = self.guards[index]
+        i, order, coef, offset = guard[0], guard[1], guard[2], guard[3]
+        di = self._drifts(tau, order + 2, i, i + 1)[0]
+        return offset + coef * di[order], coef * di[order + 1]
 
     def derivs(self, tau, index):
         guard = self.guards[index]
@@ -500,7 +519,7 @@ def _differences(d, first, orders):
     return out
 
 
-class RegimePiece:
+class RegimePiece(Piece):
     """A closed-form piece [0, tau] of a YieldingMotion as peaks.Peaks searches it; `guards`: the
     StoreyGuards of the motion (its floors' start values, its drifts' bounds over its span)."""
 
