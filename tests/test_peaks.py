@@ -198,3 +198,74 @@ def test_the_bare_building_s_maxima_match_the_matrix_exponential():
         motion.advance(t0 + h, list(F), ag, [(t0 + tk, k, J) for tk, k, J in kicks])
     got = np.array([motion.peaks.drift, motion.peaks.velocity, motion.peaks.acceleration])
     assert got == pytest.approx(tops, rel=1e-9, abs=0.0)
+
+
+class _PolynomialPiece:
+    """One floor under a storey of 1 m moving as a polynomial x(s) relative to the ground (held a_g =
+    0): every derivative in closed form and its bound over [0, tau] by the sum of the Taylor terms'
+    magnitudes, in peaks.Piece's protocol."""
+
+    def __init__(self, poly, tau):
+        self.p, self.tau = poly, tau
+
+    def _d(self, s, j):
+        return float(self.p.deriv(j)(s)) if j else float(self.p(s))
+
+    def start(self):
+        return tuple([self._d(0.0, j)] for j in range(5))
+
+    def first(self):
+        return tuple([self._d(0.0, j)] for j in range(3))
+
+    def _bound(self, j):
+        c = self.p.deriv(j).coef if j else self.p.coef
+        return float(sum(abs(a) * self.tau ** i for i, a in enumerate(c)))
+
+    def bounds(self, floor_order, drift_order):
+        return [[self._bound(floor_order), self._bound(floor_order + 1)]], [self._bound(drift_order)]
+
+    def derivatives(self, s, floors):
+        return {k: [self._d(s, j) for j in range(lo, hi)] for k, (lo, hi) in floors.items()}
+
+
+def _polynomial_top(poly, tau):
+    """max |poly| over [0, tau]: at the ends and the real roots of its derivative inside."""
+    points = [0.0, tau] + [r.real for r in poly.deriv().roots() if abs(r.imag) < 1e-12 and 0.0 < r.real < tau]
+    return max(abs(float(poly(s))) for s in points)
+
+
+def test_a_piece_is_cleared_only_where_no_value_exceeds_its_maximum():
+    """Peaks.take on closed-form pieces (random polynomials of degree 3 to 6, convex and concave): a
+    maximum set just below the piece's true peak (1e-8 of it) is raised to that peak (to 1e-12),
+    whatever bound (first or second order, or the search) settles the piece: any bound that cleared
+    a piece holding a larger value would leave it below.  The other two maxima are set far above
+    any value (1e6 times), so that the one under test decides whether the piece is searched."""
+    from numpy.polynomial import Polynomial
+
+    from pidamper_physics.peaks import Peaks, Piece
+
+    piece_type = type("PolynomialPiece", (_PolynomialPiece, Piece), {})
+    rng = np.random.default_rng(11)
+    names = ("drift", "velocity", "acceleration")
+    decided = 0
+    for case in range(600):
+        tau = 10 ** rng.uniform(-3, -1)
+        degree = int(rng.integers(3, 7))
+        poly = Polynomial([rng.normal() / tau ** j * 10 ** rng.uniform(-1, 0) for j in range(degree + 1)])
+        tops = [_polynomial_top(poly.deriv(q) if q else poly, tau) for q in range(3)]
+        under = int(rng.integers(3))
+        start = abs(float(poly.deriv(under)(0.0) if under else poly(0.0)))
+        if start > 0.999 * tops[under]:
+            continue  # the peak is (nearly) the start's: nothing for a bound to decide
+        peaks = Peaks([1.0])
+        for q, top in enumerate(tops):
+            getattr(peaks, names[q])[0] = top * (1 - 1e-8) if q == under else 1e6 * (top + 1.0)
+        peaks.take(piece_type(poly, tau), tau, 0.0)
+        got = [peaks.drift[0], peaks.velocity[0], peaks.acceleration[0]]
+        for q, top in enumerate(tops):
+            if q == under:
+                assert got[q] == pytest.approx(top, rel=1e-12), (case, names[q])
+            else:
+                assert got[q] == 1e6 * (top + 1.0), (case, names[q])
+        decided += 1
+    assert decided > 300
