@@ -47,8 +47,8 @@ def tables(n):
            f"stiffness of storey {k}, joining floor {k - 1} to floor {k} (> 0)", False) for k in floors),
         *((f"storey[{k}].h", Real, STOREY_HEIGHT, "m", 0.0, None,
            f"height of storey {k} (> 0): its drift ratio is its drift / h", False) for k in floors),
-        ("zeta_s", Real, 0.0, "1", 0.0, 1.0, "damping ratio of every mode (classical modal damping from the elastic "
-                                              "modes, P-Delta included; kept while storeys yield), [0, 1)", False),
+        ("zeta_s", Real, 0.0, "1", 0.0, 1.0, "damping ratio, [0, 1), of every elastic mode (P-Delta included) or of "
+                                              "the two Rayleigh modes, as `damping` chooses", False),
         *(row + (False,) for row in yielding_parameters(n)),
         ("g", Real, GRAVITY, "m/s2", 0.0, None, "gravitational acceleration of P-Delta's gravity loads (> 0)", False),
     )
@@ -112,7 +112,7 @@ class ShearBuildingSlave(ComponentSlave):
         m, k, h, fy, b = ([values[pattern.format(i)] for i in range(1, n + 1)] for pattern in
                           ("floor[{}].m", "storey[{}].k", "storey[{}].h", "storey[{}].Fy", "storey[{}].b"))
         core = building_motion(m, k, h, values["zeta_s"], fy, b, values["p_delta"], values["g"],
-                               values["collapse_drift"], t0=self._t0)
+                               values["collapse_drift"], t0=self._t0, damping=values["damping"])
         self._drift = drift_monitor(values["drift_limit"])
         if not isinstance(core, ShearMotion):  # yielding storeys: they may collapse
             core.on_collapse = self._collapsed

@@ -54,9 +54,11 @@ _BUILDING_PARAMETERS = {
                       "first natural frequency; L1 = g / w1^2"),
     "d": (0.0, None, "clearance: the particle meets a stop at y - x_j = -+d (> 0)"),
     "F0": (None, None, "amplitude of the built-in harmonic force F0 sin(Omega t + phi) on the damper floor"),
-    "fidelity": (0, 2, "model level: 0 linear, 1 damped (modal damping zeta_s, particle dashpot zeta_p), 2 coupled "
+    "fidelity": (0, 2, "model level: 0 linear, 1 damped (the building's damping zeta_s, particle dashpot zeta_p), "
+                       "2 coupled "
                        "(the same: the particle always hangs from its moving floor)"),
-    "zeta_s": (0.0, 1.0, "damping ratio of every mode of the building (classical modal damping; fidelity >= 1; < 1)"),
+    "zeta_s": (0.0, 1.0, "damping ratio of the building (fidelity >= 1; < 1): of every elastic mode, or of the two "
+                         "Rayleigh modes, as `damping` chooses"),
     "alpha_0": (None, None, "initial particle angle (the building starts at rest)"),
     "angle_limit": (0.0, None, "the particle's swing beyond which the linear (small-angle) model warns, once per run "
                                "(0.4 rad: its frequency is then 1 % off; 0 = never); the floors: drift_limit"),

@@ -1,6 +1,7 @@
 """The storeys' variables every building FMU has (DampedShearBuilding<N> and ShearBuilding<N>):
-parameters storey[k].Fy, storey[k].b, p_delta, collapse_drift (pidamper_physics.storeys) and
-drift_limit (pidamper_physics.validity.DriftMonitor); outputs storey[k].force,
+parameters storey[k].Fy, storey[k].b, p_delta, collapse_drift (pidamper_physics.storeys), damping
+(the model of the building's damping: pidamper_physics.building) and drift_limit
+(pidamper_physics.validity.DriftMonitor); outputs storey[k].force,
 storey[k].plastic_drift, energy_hysteretic, collapsed.
 """
 import math
@@ -23,6 +24,10 @@ def yielding_parameters(n):
                 "gravity load above each storey, the particle's on its floor included)"),
                ("collapse_drift", Real, COLLAPSE_DRIFT, "1", 0.0, 1.0, "storey drift ratio at which a yielding "
                 "building counts as collapsed, (0, 1]: every output holds from then"),
+               ("damping", Integer, 0, None, 0, 2, "damping model at the ratio zeta_s: 0 modal (every elastic mode, "
+                "the matrix kept while storeys yield), 1 Rayleigh on the initial stiffness, 2 Rayleigh on the tangent "
+                "stiffness of the storeys' current regime (Rayleigh: zeta_s at the first mode and the third, or the "
+                "last of fewer storeys)"),
                ("drift_limit", Real, DriftMonitor.DEFAULT_LIMIT, "1", 0.0, None, "storey drift ratio beyond which "
                 "the FMU warns, once per run, that the shear building describes no real one (0 = never)")])
 

@@ -9,4 +9,6 @@ from .modal cimport _dot3, _matrix_sum
 cdef class ShearBuilding:
     cdef public Py_ssize_t n
     cdef public double zeta
-    cdef public list masses, stiffnesses, heights, geometric, net, K, omegas, shapes, C
+    cdef public list masses, stiffnesses, heights, geometric, net, K, omegas, shapes, C, zetas
+    cdef public Py_ssize_t damping
+    cdef public object rayleigh

@@ -7,11 +7,18 @@ floor k, floor 0 being the ground.  With x the floor displacements relative to t
     K = tridiagonal: K[k][k] = k_k + k_(k+1), K[k][k+1] = K[k+1][k] = -k_(k+1),
 
 with k_k less the geometric stiffness P_k / h_k of P-Delta where it is on (P_k the gravity load
-the storey carries, h_k its height; the strain energy then includes the P-Delta potential),
-    C = M Phi diag(2 zeta w_r) Phi^T M     (every mode damped at the ratio zeta),
+the storey carries, h_k its height; the strain energy then includes the P-Delta potential), and
+the damping `damping` chooses (DAMPING_MODELS):
 
-Phi the undamped mode shapes normalised to Phi^T M Phi = I, w_r the natural frequencies
-(ascending).  Drift of storey k: x_k - x_(k-1); base shear: k_1 x_1 + the first storey's share of
+    MODAL (0):            C = M Phi diag(2 zeta w_r) Phi^T M   (every elastic mode at the ratio zeta,
+                          the matrix kept while storeys yield),
+    RAYLEIGH_INITIAL (1): C = a0 M + a1 K                      (Rayleigh, the elastic K, kept),
+    RAYLEIGH_TANGENT (2): C = a0 M + a1 K_t                    (Rayleigh, the tangent K_t of the
+                          storeys' current regime, P-Delta included, as OpenSees's betaK),
+
+a0 = 2 zeta w_1 w_j / (w_1 + w_j), a1 = 2 zeta / (w_1 + w_j): the ratio zeta at the first mode and
+the j-th, j = min(3, N) (mode r then has a0 / (2 w_r) + a1 w_r / 2); Phi the undamped mode shapes
+normalised to Phi^T M Phi = I, w_r the natural frequencies (ascending).  Drift of storey k: x_k - x_(k-1); base shear: k_1 x_1 + the first storey's share of
 the damping force, (C x')_ground = -(sum of the rows of C) x' (the dashpots' reaction on the ground).
 Plain Python (math): this ships inside the FMU.
 """
@@ -20,15 +27,20 @@ import math
 from .eigen import jacobi_eigh
 from .modal import _dot3, _matrix_sum
 
+MODAL, RAYLEIGH_INITIAL, RAYLEIGH_TANGENT = 0, 1, 2
+#: the damping models' names (ShearBuilding's `damping`), by number
+DAMPING_MODELS = ("modal", "Rayleigh, initial stiffness", "Rayleigh, tangent stiffness")
+
 
 class ShearBuilding:
     """Matrices and modes of an N-storey shear building (see the module doc).
 
     masses [kg], stiffnesses [N/m], heights [m]: sequences of N positive numbers (floor / storey 1
-    first; heights default to 3 m); zeta [1]: the damping ratio of every mode, 0 <= zeta < 1
-    (Params checks them all)."""
+    first; heights default to 3 m); zeta [1]: the damping ratio of every mode (MODAL) or of the
+    first and the min(3, N)-th (Rayleigh), 0 <= zeta < 1; damping: MODAL, RAYLEIGH_INITIAL or
+    RAYLEIGH_TANGENT (Params checks them all).  zetas: each elastic mode's damping ratio."""
 
-    def __init__(self, masses, stiffnesses, zeta=0.0, heights=None, geometric=None):
+    def __init__(self, masses, stiffnesses, zeta=0.0, heights=None, geometric=None, damping=MODAL):
         n = len(masses)
         if n < 1 or len(stiffnesses) != n:
             raise ValueError("a shear building needs a mass and a stiffness per storey")
@@ -53,9 +65,32 @@ class ShearBuilding:
         self.omegas = [math.sqrt(max(lam, 0.0)) for lam in lams]
         self.shapes = [[psi[i][r] / root[i] for r in range(n)] for i in range(n)]  # Phi[i][r]
         phi = self.shapes
-        # C = M Phi diag(2 zeta w) Phi^T M
-        self.C = [[self.masses[i] * self.masses[j] * sum(phi[i][r] * 2.0 * self.zeta * self.omegas[r] * phi[j][r]
-                                                          for r in range(n)) for j in range(n)] for i in range(n)]
+        self.damping = int(damping)
+        self.rayleigh = None  # (a0 [1/s], a1 [s]) of a Rayleigh model
+        if self.damping == MODAL:
+            self.zetas = [self.zeta] * n
+            # C = M Phi diag(2 zeta w) Phi^T M
+            self.C = [[self.masses[i] * self.masses[j] * sum(phi[i][r] * 2.0 * self.zeta * self.omegas[r] * phi[j][r]
+                                                              for r in range(n)) for j in range(n)] for i in range(n)]
+        else:
+            w1, wj = self.omegas[0], self.omegas[min(3, n) - 1]
+            a0, a1 = 2.0 * self.zeta * w1 * wj / (w1 + wj), 2.0 * self.zeta / (w1 + wj)
+            self.rayleigh = (a0, a1)
+            self.zetas = [a0 / (2.0 * w) + a1 * w / 2.0 for w in self.omegas]
+            self.C = self.damping_matrix(self.K)
+
+    def damping_matrix(self, K):
+        """C [N s/m] with the stiffness matrix K [N/m] (nested lists): a0 M + a1 K under a Rayleigh
+        model, the model's fixed C otherwise."""
+        if self.rayleigh is None:
+            return self.C
+        a0, a1 = self.rayleigh
+        n = self.n
+        return [[(a0 * self.masses[i] if i == j else 0.0) + a1 * K[i][j] for j in range(n)] for i in range(n)]
+
+    def tangent_damping(self):
+        """True when C follows the storeys' tangent stiffness (RAYLEIGH_TANGENT)."""
+        return self.damping == RAYLEIGH_TANGENT
 
     @property
     def w_1(self):

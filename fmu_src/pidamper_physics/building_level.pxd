@@ -31,7 +31,7 @@ cpdef list _elastic_outputs(list xs, list vs, list acc, double ground, ShearBuil
 cdef class BuildingModel(LevelModel):
     cdef public Py_ssize_t n, j
     cdef public double mu_j, _ground, _hysteretic
-    cdef public list Kf, Cf, Kr, Cr, ride_masses, others
+    cdef public list Kf, Cf, Kr, Cr, ride_masses, others, damping_now
     cdef public tuple free, ride
     cdef public Peaks peaks
     cdef public object storeys

@@ -44,22 +44,21 @@ class BuildingModel(LevelModel):
         b = p.building
         n, j = b.n, p.floor
         self.n, self.j = n, j
-        m, ww1, cwp = p.m, p.w1 * p.w1, 2.0 * p.zeta_p * p.w1  # cwp: the particle dashpot per its mass
+        m, ww1 = p.m, p.w1 * p.w1
         self.mu_j = m / b.masses[j]  # the impact law's mass ratio: particle to floor j
         # free flight: q = (x_1..x_N, y); the wire and the particle dashpot join floor j and y
         # (the particle's row per its own mass, so a massless particle, mu = 0, still swings)
         K = [row + [0.0] for row in b.K]
-        C = [row + [0.0] for row in b.C]
-        for A, c in ((K, m * ww1), (C, m * cwp)):
-            A[j][j] += c
-            A[j][n] -= c
+        K[j][j] += m * ww1
+        K[j][n] -= m * ww1
         self.Kf = _per_mass(K, b.masses) + [[-ww1 if k == j else ww1 if k == n else 0.0 for k in range(n + 1)]]
-        self.Cf = _per_mass(C, b.masses) + [[-cwp if k == j else cwp if k == n else 0.0 for k in range(n + 1)]]
         # riding: floor j carries the particle
         ride = list(b.masses)
         ride[j] += m
         self.ride_masses = ride
-        self.Kr, self.Cr = _per_mass(b.K, ride), _per_mass(b.C, ride)
+        self.Kr = _per_mass(b.K, ride)
+        self.Cf, self.Cr = self._damping(b.C)
+        self.damping_now = b.C  # the building's damping matrix in the storeys' current regime [N s/m]
         try:
             self.free = (solved_modes(self.Kf, self.Cf), self.Kf, self.Cf)
             self.ride = (solved_modes(self.Kr, self.Cr), self.Kr, self.Cr)
@@ -98,16 +97,28 @@ class BuildingModel(LevelModel):
             K[j][n] -= p.m * p.w1 * p.w1
             Kf = _per_mass(K, b.masses) + [self.Kf[n]]
             Kr = _per_mass(self.storeys.stiffness(), self.ride_masses)
+            C = b.damping_matrix(self.storeys.stiffness())  # (b.C unless Rayleigh on the tangent)
+            Cf, Cr = (self.Cf, self.Cr) if C is b.C else self._damping(C)
             try:
-                systems = ((solved_modes(Kf, self.Cf), Kf, self.Cf), (solved_modes(Kr, self.Cr), Kr, self.Cr),
-                           Kf, self.Cf, Kr, self.Cr)
+                systems = ((solved_modes(Kf, Cf), Kf, Cf), (solved_modes(Kr, Cr), Kr, Cr), Kf, Cf, Kr, Cr, C)
             except ModesError as err:
                 systems = f"the regime {key} (storeys elastic 0, yielding +1 / -1) has no modes: {err}"
             self._regimes[key] = systems
         if isinstance(systems, str):  # the Damper sees `collapsed` and stops (its clock gives the time)
             self.storeys.collapse(math.nan, systems)
             return
-        self.free, self.ride, self.Kf, self.Cf, self.Kr, self.Cr = systems
+        self.free, self.ride, self.Kf, self.Cf, self.Kr, self.Cr, self.damping_now = systems
+
+    def _damping(self, C):
+        """(Cf, Cr) per mass, free flight and riding, of the building's damping matrix C [N s/m]:
+        the particle's dashpot 2 zeta_p m w1 joins floor j and the particle in flight."""
+        p, j, n = self.p, self.j, self.n
+        m, cwp = p.m, 2.0 * p.zeta_p * p.w1
+        Cf = [row + [0.0] for row in C]
+        Cf[j][j] += m * cwp
+        Cf[j][n] -= m * cwp
+        return (_per_mass(Cf, p.building.masses) + [[-cwp if k == j else cwp if k == n else 0.0 for k in range(n + 1)]],
+                _per_mass(C, self.ride_masses))
 
     def _held(self, masses):
         """The storeys' held forces per mass [m/s2] on each floor in the current regime (None if the
@@ -323,7 +334,7 @@ class BuildingModel(LevelModel):
         if self.storeys is None:
             return xs, acc, b.drifts(xs), b.base_shear(xs, vs)
         drifts = b.drifts(xs)
-        n, C = self.n, b.C
+        n, C = self.n, self.damping_now
         shear = _total(self.storeys.restoring(drifts)) + _matrix_sum(C, vs, None, None, n)
         return xs, acc, drifts, shear
 
@@ -340,7 +351,7 @@ class BuildingModel(LevelModel):
         if storeys is None:
             return _elastic_outputs(xs, vs, acc, ground, b, self.peaks, n)
         out, drifts, ratios = _floor_table(xs, acc, ground, b.heights, n)
-        out.append(_total(storeys.restoring(drifts)) + _matrix_sum(b.C, vs, None, None, n))
+        out.append(_total(storeys.restoring(drifts)) + _matrix_sum(self.damping_now, vs, None, None, n))
         out += ratios
         pk = self.peaks
         out += pk.drift

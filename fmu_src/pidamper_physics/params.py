@@ -64,14 +64,14 @@ class Params:
 
     NAMES = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi", "fidelity",
              "zeta_s", "zeta_p", "storeys", "damper_floor", "floor_m", "storey_k", "storey_h", "storey_Fy", "storey_b",
-             "p_delta", "collapse_drift") + MATERIAL_NAMES
+             "p_delta", "collapse_drift", "damping") + MATERIAL_NAMES
 
     def __init__(self, g=DEFAULTS["g"], M=DEFAULTS["M"], mu=DEFAULTS["mu"], L2=DEFAULTS["L2"],
                  FR=DEFAULTS["FR"], d=DEFAULTS["d"], d_angle=DEFAULTS["d_angle"], e=DEFAULTS["e"],
                  contact_form=DEFAULTS["contact_form"], F0=DEFAULTS["F0"], Omega=DEFAULTS["Omega"],
                  phi=DEFAULTS["phi"], fidelity=DEFAULTS["fidelity"], zeta_s=DEFAULTS["zeta_s"],
                  zeta_p=DEFAULTS["zeta_p"], storeys=0, damper_floor=0, floor_m=None, storey_k=None, storey_h=None,
-                 storey_Fy=None, storey_b=None, p_delta=0, collapse_drift=COLLAPSE_DRIFT, **materials):
+                 storey_Fy=None, storey_b=None, p_delta=0, collapse_drift=COLLAPSE_DRIFT, damping=0, **materials):
         for name in ("g", "M", "L2", "FR", "d", "d_angle"):
             _positive(name, locals()[name])
         if check_finite("mu", mu) < 0.0:
@@ -103,7 +103,7 @@ class Params:
         self.storey_h = _per_storey("storey_h", storey_h, STOREY_HEIGHT)
         self.storey_Fy = _per_storey("storey_Fy", storey_Fy, 0.0)
         self.storey_b = _per_storey("storey_b", storey_b, HARDENING)
-        self.p_delta, self.collapse_drift = p_delta, collapse_drift
+        self.p_delta, self.collapse_drift, self.damping = p_delta, collapse_drift, damping
         self.law = None  # the storeys' law (storeys.Storeys) of a building
         if self.storeys:
             self._set_building()
@@ -143,7 +143,8 @@ class Params:
         """Derived quantities of a building (storeys >= 1): the ShearBuilding, the particle's m, w1,
         L1, and M = the damper floor's mass (the force F acts on that floor)."""
         n = self.storeys
-        self.building = check_building(self.floor_m[:n], self.storey_k[:n], self.zeta_s, self.storey_h[:n])
+        self.building = check_building(self.floor_m[:n], self.storey_k[:n], self.zeta_s, self.storey_h[:n], None,
+                                       self.damping)
         self.floor = (self.damper_floor or n) - 1  # index of the damper floor
         self.M = self.building.masses[self.floor]
         self.m = self.mu * self.building.total_mass
@@ -151,7 +152,7 @@ class Params:
                             self.floor_m[:n], self.p_delta, self.g, self.collapse_drift, (self.floor, self.m))
         if self.p_delta:  # the building of K - K_G: its modes, damping and first frequency
             self.building = check_building(self.floor_m[:n], self.storey_k[:n], self.zeta_s, self.storey_h[:n],
-                                           law.geometric)
+                                           law.geometric, self.damping)
         if law.any_yield:
             check_damping(law, self.zeta_s if self.fidelity else 0.0, self.building.spread)
             self.law = law
@@ -179,12 +180,13 @@ class Params:
         return cls(**kwargs)
 
 
-def check_building(masses, stiffnesses, zeta=0.0, heights=None, geometric=None):
+def check_building(masses, stiffnesses, zeta=0.0, heights=None, geometric=None, damping=0):
     """The ShearBuilding of floor masses [kg], storey stiffnesses [N/m] and storey heights [m]
-    (floor / storey 1 first; heights default to STOREY_HEIGHT) with every mode at damping ratio
-    zeta, once they are checked: a ParameterError names the value (storeys, floor[k].m, storey[k].k,
-    storey[k].h, zeta_s) and the rule.  geometric: P-Delta's P_k / h_k [N/m] (storeys.check_storeys
-    checks it)."""
+    (floor / storey 1 first; heights default to STOREY_HEIGHT) damped at the ratio zeta by the
+    model `damping` (building.DAMPING_MODELS: 0 every elastic mode, 1 / 2 Rayleigh on the initial /
+    tangent stiffness), once they are checked: a ParameterError names the value (storeys,
+    floor[k].m, storey[k].k, storey[k].h, zeta_s, damping) and the rule.  geometric: P-Delta's
+    P_k / h_k [N/m] (storeys.check_storeys checks it)."""
     n = len(masses)
     heights = [STOREY_HEIGHT] * n if heights is None else list(heights)
     if not 1 <= n <= MAX_STOREYS or len(stiffnesses) != n or len(heights) != n:
@@ -198,7 +200,17 @@ def check_building(masses, stiffnesses, zeta=0.0, heights=None, geometric=None):
     zeta = check_finite("zeta_s", zeta)
     if not 0.0 <= zeta < 1.0 or 1.0 - zeta * zeta < ZETA_GAP:
         raise ParameterError("zeta_s", zeta, f"it must lie in [0, 1) with 1 - zeta_s^2 >= {ZETA_GAP:g}")
-    return ShearBuilding(masses, stiffnesses, zeta, heights, geometric)
+    if damping not in (0, 1, 2) or isinstance(damping, bool) or isinstance(damping, float) and not damping.is_integer():
+        raise ParameterError("damping", damping, "it must be 0 (modal: every elastic mode at zeta_s), 1 (Rayleigh on the "
+                             "initial stiffness) or 2 (Rayleigh on the tangent stiffness), zeta_s at the first mode and "
+                             "the third (the last of fewer)")
+    building = ShearBuilding(masses, stiffnesses, zeta, heights, geometric, int(damping))
+    for r, z in enumerate(building.zetas):
+        if not z < 1.0 or 1.0 - z * z < ZETA_GAP:
+            raise ParameterError("zeta_s, damping", (zeta, damping), f"Rayleigh damping would give mode {r + 1} the "
+                                 f"ratio {z:.6g} (w = {building.omegas[r]:.6g} rad/s): every mode must stay "
+                                 f"underdamped, 1 - zeta^2 >= {ZETA_GAP:g}; lower zeta_s or use damping = 0")
+    return building
 
 
 def _per_storey(name, values, default):

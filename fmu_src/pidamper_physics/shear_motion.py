@@ -52,7 +52,7 @@ class ShearMotion:
         if len(x0) != n or len(v0) != n:
             raise ParameterError("x0, v0", (x0, v0), f"they need {n} entries, one per floor")
         self.t = check_finite("start time", t0)
-        self.modes = [DampedOscillator(w, building.zeta) for w in building.omegas]
+        self.modes = [DampedOscillator(w, z) for w, z in zip(building.omegas, building.zetas)]
         self.powers = [[mode.w ** j for j in range(6)] for mode in self.modes]  # w^j of each mode (bounds)
         self.set_floors(x0, v0)
         self.peaks = Peaks(building.heights)

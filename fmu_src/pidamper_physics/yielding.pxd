@@ -73,7 +73,7 @@ cdef class YieldingMotion:
     cdef public bint fresh
     cdef public Peaks peaks
     cdef public dict _systems
-    cdef public tuple _regime, _held, _booked, _restored
+    cdef public tuple _regime, _held, _booked, _restored, _dampings
 
     @cython.locals(booked=tuple)
     cpdef tuple _booking(self)

@@ -40,15 +40,16 @@ from .storeys import Hysteresis, check_damping, check_storeys
 
 
 def building_motion(masses, stiffnesses, heights, zeta, yield_forces, ratios, p_delta=0, g=9.81,
-                    collapse_drift=0.1, t0=0.0):
+                    collapse_drift=0.1, t0=0.0, damping=0):
     """The motion of a bare shear building, its parameters checked (a ParameterError names the
     value and the rule): ShearMotion if no storey can yield, else YieldingMotion.  Floors [kg],
     storeys' stiffnesses [N/m], heights [m], yield forces [N] (0 elastic) and hardening ratios
     storey 1 first; zeta: every elastic mode's damping ratio; p_delta 0/1 with gravity g [m/s2];
-    collapse_drift: the drift ratio at which a yielding building collapses."""
-    make_building(masses, stiffnesses, zeta, heights)  # the elastic building's own checks first
+    collapse_drift: the drift ratio at which a yielding building collapses; damping: the model
+    (building.DAMPING_MODELS: 0 modal, 1 / 2 Rayleigh on the initial / tangent stiffness)."""
+    make_building(masses, stiffnesses, zeta, heights, None, damping)  # the elastic building's own checks first
     law = check_storeys(stiffnesses, yield_forces, ratios, heights, masses, p_delta, g, collapse_drift)
-    building = make_building(masses, stiffnesses, zeta, heights, law.geometric)
+    building = make_building(masses, stiffnesses, zeta, heights, law.geometric, damping)
     if not law.any_yield:
         return ShearMotion(building, t0=t0)
     check_damping(law, zeta, building.spread)
@@ -77,6 +78,7 @@ class YieldingMotion:
         self._systems = {}  # regime -> Modes, or the reason it has none
         self._regime = (-1, None)  # (storeys' version, the Modes of their regime)
         self._held = (-1, None, None, None)  # (storeys' version, forces, ground, loads per mass)
+        self._dampings = (-1, None)  # (storeys' version, their regime's damping matrix): _damping_matrix()
         self._c = [[c / m for c in row] for row, m in zip(building.C, building.masses)]
         # the elastic building, stepped while no storey has yielded and none can reach a limit in
         # the step: its state is then this motion's (the modal one of ShearMotion)
@@ -133,7 +135,7 @@ class YieldingMotion:
         booked, kept = self._booking(), self._restored
         if booked is not None and kept is not None and kept[0] is booked:
             return kept[1]
-        C, n, v = self.b.C, self.n, self.v
+        C, n, v = self._damping_matrix(), self.n, self.v
         r = self.storeys.restoring(self._drifts_now())
         out = []
         for i in range(n):
@@ -286,13 +288,27 @@ class YieldingMotion:
         key = tuple(self.storeys.regime)
         modes = self._systems.get(key)
         if modes is None:
-            K = [[k / m for k in row] for row, m in zip(self.storeys.stiffness(), self.b.masses)]
+            stiffness = self.storeys.stiffness()
+            K = [[k / m for k in row] for row, m in zip(stiffness, self.b.masses)]
+            c = self._c
+            if self.b.tangent_damping():  # Rayleigh on this regime's tangent stiffness
+                c = [[v / m for v in row] for row, m in zip(self._damping_matrix(), self.b.masses)]
             try:
-                modes = solved_modes(K, self._c)
+                modes = solved_modes(K, c)
             except ModesError as err:
                 modes = f"the regime {key} (storeys elastic 0, yielding +1 / -1) has no modes: {err}"
             self._systems[key] = modes
         return modes
+
+    def _damping_matrix(self):
+        """C [N s/m] of the storeys' current regime: the building's own, or under Rayleigh damping on
+        the tangent stiffness a0 M + a1 K_t (kept per version of the storeys' state)."""
+        if not self.b.tangent_damping():
+            return self.b.C
+        kept = self._dampings
+        if kept[0] != self.storeys.version:
+            kept = self._dampings = (self.storeys.version, self.b.damping_matrix(self.storeys.stiffness()))
+        return kept[1]
 
     def _loads(self, forces, ground):
         """Held loads per mass [m/s2]: (F_k + the storeys' held forces) / m_k - a_g (kept while

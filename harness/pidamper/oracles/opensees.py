@@ -21,6 +21,7 @@ import glob
 import importlib.util
 import json
 import os
+import math
 
 _OPS = None
 
@@ -85,27 +86,38 @@ def _floors(ops, masses):
         ops.mass(k, float(m))
 
 
-def shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta=False, g=9.81, carried=None):
+def shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta=False, g=9.81, carried=None,
+                   damping="modal"):
     """Build the yielding shear building in a fresh OpenSees domain (see the module doc); returns
     the `ops` module.  carried: masses [kg] per floor whose weight the storeys carry beyond the
-    floors' own (a damper's particle, modelled elsewhere), for P-Delta."""
+    floors' own (a damper's particle, modelled elsewhere), for P-Delta.  damping: "modal"
+    (`modalDamping`), "rayleigh-initial" or "rayleigh-tangent" (`rayleigh` with betaKinit or betaK,
+    zeta at the first mode and the min(3, N)-th; the P-Delta springs' stiffness included)."""
     ops = load()
     n = len(masses)
     weights = [m + (carried[k] if carried else 0.0) for k, m in enumerate(masses)]
     _floors(ops, masses)
+    # a zeroLength element takes no Rayleigh damping unless asked (-doRayleigh 1)
+    rayleigh = ("-doRayleigh", 1) if damping != "modal" else ()
     for k in range(1, n + 1):
         fy, kk, b = float(yield_forces[k - 1]), float(stiffnesses[k - 1]), float(ratios[k - 1])
         if fy > 0.0:
             ops.uniaxialMaterial("Steel01", k, fy, kk, b)
         else:
             ops.uniaxialMaterial("Elastic", k, kk)
-        ops.element("zeroLength", k, k - 1, k, "-mat", k, "-dir", 1)
+        ops.element("zeroLength", k, k - 1, k, "-mat", k, "-dir", 1, *rayleigh)
         if p_delta:
             gravity = g * sum(weights[k - 1:])
             ops.uniaxialMaterial("Elastic", 100 + k, -gravity / float(heights[k - 1]))
-            ops.element("zeroLength", 100 + k, k - 1, k, "-mat", 100 + k, "-dir", 1)
-    ops.eigen("-fullGenLapack", n)
-    ops.modalDamping(float(zeta))
+            ops.element("zeroLength", 100 + k, k - 1, k, "-mat", 100 + k, "-dir", 1, *rayleigh)
+    w2 = ops.eigen("-fullGenLapack", n)
+    if damping == "modal":
+        ops.modalDamping(float(zeta))
+    else:
+        w1, wj = math.sqrt(w2[0]), math.sqrt(w2[min(3, n) - 1])
+        a0, a1 = 2.0 * zeta * w1 * wj / (w1 + wj), 2.0 * zeta / (w1 + wj)
+        tangent = damping == "rayleigh-tangent"
+        ops.rayleigh(a0, a1 if tangent else 0.0, 0.0 if tangent else a1, 0.0)
     return ops
 
 
@@ -169,10 +181,10 @@ PARTICLE = 1000
 
 
 def roof_history(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta, samples, dt_record, dt,
-                 stop_time):
+                 stop_time, damping="modal"):
     """The roof's displacement [m] at every dt_record instant of a shear_building under the held
     ground motion `samples` (a JSON-able call for a child process: running.isolated)."""
-    shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta=p_delta)
+    shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta=p_delta, damping=damping)
     _, x = run_building(len(masses), samples, dt_record, dt, stop_time, floors=[len(masses)])
     return [row[0] for row in x]
 

@@ -7,16 +7,19 @@ outside its reach).  The dashpots' energy (integral of x'^T C x') and the hyster
 (integral of f_p d delta_p) are integrated as two extra states.
 
 It shares nothing with pidamper_physics but the problem statement: matrices by numpy, damping
-C = M Phi diag(2 zeta w) Phi^T M from scipy.linalg.eigh(K - K_G, M), P_k = g (masses above storey
-k, the particle's on its floor included)."""
+C = M Phi diag(2 zeta w) Phi^T M from scipy.linalg.eigh(K - K_G, M) ("modal"), or Rayleigh
+a0 M + a1 K with zeta at the first mode and the min(3, N)-th on K - K_G ("rayleigh-initial") or on
+the current regimes' tangent ("rayleigh-tangent"), P_k = g (masses above storey k, the particle's
+on its floor included)."""
 import numpy as np
 import scipy.linalg
 from scipy.integrate import solve_ivp
 
 
 class Reference:
-    def __init__(self, m, k, Fy, b, h, zeta, p_delta=False, g=9.81, damper=None):
-        """damper: None or dict(floor j (0-based), m, w1, zeta_p, d, e)."""
+    def __init__(self, m, k, Fy, b, h, zeta, p_delta=False, g=9.81, damper=None, damping="modal"):
+        """damper: None or dict(floor j (0-based), m, w1, zeta_p, d, e); damping: "modal",
+        "rayleigh-initial" or "rayleigh-tangent"."""
         self.m, self.k, self.Fy, self.b, self.h = (np.asarray(a, float) for a in (m, k, Fy, b, h))
         n = self.n = len(m)
         carried = self.m.copy()
@@ -29,7 +32,13 @@ class Reference:
         K = D.T @ np.diag(keff) @ D
         M = np.diag(self.m)
         w2, phi = scipy.linalg.eigh(K, M)
-        self.C = M @ phi @ np.diag(2 * zeta * np.sqrt(w2)) @ phi.T @ M
+        self.damping, self.M = damping, M
+        if damping == "modal":
+            self.C = M @ phi @ np.diag(2 * zeta * np.sqrt(w2)) @ phi.T @ M
+        else:
+            w1, wj = np.sqrt(w2[0]), np.sqrt(w2[min(3, n) - 1])
+            self.rayleigh = (2 * zeta * w1 * wj / (w1 + wj), 2 * zeta / (w1 + wj))
+            self.C = self.rayleigh[0] * M + self.rayleigh[1] * K
         self.D = D
         self.damper = damper
         self.dp = np.zeros(n)
@@ -38,6 +47,13 @@ class Reference:
         # solve_ivp sees a guard's sign only at its step ends: a guard that dips below zero and back
         # within one step (a storey grazing its yield surface) would be missed; short steps see it
         self.max_step = 5e-4
+
+    def damping_matrix(self):
+        """C of the current regimes (Rayleigh on the tangent: a0 M + a1 D^T diag(kt - P/h) D)."""
+        if self.damping != "rayleigh-tangent":
+            return self.C
+        kt = np.where(self.s == 0, self.k, self.b * self.k) - self.kg
+        return self.rayleigh[0] * self.M + self.rayleigh[1] * (self.D.T @ np.diag(kt) @ self.D)
 
     def spring(self, drift):
         """Storey forces (bilinear springs + P-Delta) at the drifts, in the current regimes."""
@@ -48,11 +64,12 @@ class Reference:
     def rhs(self, t, z, ag, F):
         n = self.n
         x, v = z[:n], z[n:2 * n]
-        f = self.D.T @ self.spring(self.D @ x) + self.C @ v
+        C = self.damping_matrix()
+        f = self.D.T @ self.spring(self.D @ x) + C @ v
         acc = (F - f) / self.m - ag
         rate = self.D @ v
         fp = np.where(self.s == 0, 0.0, self.s * (1 - self.b) * self.Fy)
-        energies = [v @ self.C @ v, fp @ rate]  # dashpots, hysteresis
+        energies = [v @ C @ v, fp @ rate]  # dashpots, hysteresis
         if self.damper is None:
             return np.concatenate([v, acc, energies])
         dm = self.damper
