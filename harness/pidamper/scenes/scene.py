@@ -46,7 +46,7 @@ else:  # pragma: no cover
 PARAMETERS = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi",
               "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0", "angle_limit", "zeta_s", "zeta_p",
               "storeys", "damper_floor", "floor_m", "storey_k", "storey_h", "storey_Fy", "storey_b", "p_delta",
-              "collapse_drift") + MATERIAL_NAMES
+              "collapse_drift", "damping") + MATERIAL_NAMES
 #: a building's per-storey parameters: a number (every storey) or a list (storey 1 first), and the
 #: FMU variables they fill
 PER_STOREY = {"floor_m": "floor[{}].m", "storey_k": "storey[{}].k", "storey_h": "storey[{}].h",
