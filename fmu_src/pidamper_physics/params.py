@@ -92,6 +92,7 @@ class Params:
             raise ParameterError("Omega", Omega, "it must be >= 0")
         check_finite("phi", phi)
         _check_level(fidelity, contact_form, zeta_s, zeta_p)
+        damping = check_damping_model(damping)
         self.g, self.M, self.mu, self.L2, self.FR = float(g), float(M), float(mu), float(L2), float(FR)
         self.d, self.d_angle, self.e = float(d), float(d_angle), float(e)
         self.contact_form = int(contact_form)
@@ -180,6 +181,15 @@ class Params:
         return cls(**kwargs)
 
 
+def check_damping_model(damping):
+    """The building's damping model (building.DAMPING_MODELS) as an int, or a ParameterError naming it."""
+    if damping not in (0, 1, 2) or isinstance(damping, bool) or isinstance(damping, float) and not damping.is_integer():
+        raise ParameterError("damping", damping, "it must be 0 (modal: every elastic mode at zeta_s), 1 (Rayleigh on the "
+                             "initial stiffness) or 2 (Rayleigh on the tangent stiffness), zeta_s at the first mode and "
+                             "the third (the last of fewer)")
+    return int(damping)
+
+
 def check_building(masses, stiffnesses, zeta=0.0, heights=None, geometric=None, damping=0):
     """The ShearBuilding of floor masses [kg], storey stiffnesses [N/m] and storey heights [m]
     (floor / storey 1 first; heights default to STOREY_HEIGHT) damped at the ratio zeta by the
@@ -200,11 +210,7 @@ def check_building(masses, stiffnesses, zeta=0.0, heights=None, geometric=None, 
     zeta = check_finite("zeta_s", zeta)
     if not 0.0 <= zeta < 1.0 or 1.0 - zeta * zeta < ZETA_GAP:
         raise ParameterError("zeta_s", zeta, f"it must lie in [0, 1) with 1 - zeta_s^2 >= {ZETA_GAP:g}")
-    if damping not in (0, 1, 2) or isinstance(damping, bool) or isinstance(damping, float) and not damping.is_integer():
-        raise ParameterError("damping", damping, "it must be 0 (modal: every elastic mode at zeta_s), 1 (Rayleigh on the "
-                             "initial stiffness) or 2 (Rayleigh on the tangent stiffness), zeta_s at the first mode and "
-                             "the third (the last of fewer)")
-    building = ShearBuilding(masses, stiffnesses, zeta, heights, geometric, int(damping))
+    building = ShearBuilding(masses, stiffnesses, zeta, heights, geometric, check_damping_model(damping))
     for r, z in enumerate(building.zetas):
         if not z < 1.0 or 1.0 - z * z < ZETA_GAP:
             raise ParameterError("zeta_s, damping", (zeta, damping), f"Rayleigh damping would give mode {r + 1} the "
