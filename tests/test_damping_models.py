@@ -62,19 +62,20 @@ def test_tangent_damping_takes_the_yielding_storeys_dashpots_away():
     assert tangent.viscous < 0.98 * initial.viscous
 
 
-def test_the_damped_building_matches_the_reference_under_tangent_damping():
-    """The 3-storey yielding building with the pendulum damper on its roof, Rayleigh on the
-    tangent: floors and particle against the reference with its particle, to 1e-8."""
+@pytest.mark.parametrize("damping", [1, 2])
+def test_the_damped_building_matches_the_reference_under_rayleigh_damping(damping):
+    """The 3-storey yielding building with the pendulum damper on its roof under either Rayleigh
+    model: floors and particle against the reference with its particle, to 1e-8."""
     ags = ground(800, 3.0, 1)
     p = Params(storeys=3, mu=0.05, FR=1.0, d=0.02, e=0.6, fidelity=1, zeta_s=0.05, zeta_p=0.02, storey_Fy=FY3,
-               storey_b=B3, p_delta=1, floor_m=M3, storey_k=K3, damping=2)
+               storey_b=B3, p_delta=1, floor_m=M3, storey_k=K3, damping=damping)
     ours = Damper(p)
     modes, rows = set(), []
     for i in range(len(ags) - 1):
         ours.advance((i + 1) * DT, 0.0, ags[i])
         modes.add(ours.mode)
         rows.append(ours.floors()[0] + [ours.y, ours.viscous, ours.model.storeys.hysteretic])
-    ref = Reference(M3, K3, FY3, B3, H3, 0.05, p_delta=True, damping="rayleigh-tangent",
+    ref = Reference(M3, K3, FY3, B3, H3, 0.05, p_delta=True, damping=NAMES[damping],
                     damper=dict(floor=2, m=p.m, w1=p.w1, zeta_p=0.02, d=0.02, e=0.6))
     Z = ref.run(np.arange(len(ags)) * DT, lambda t: ags[int(round(t / DT))])
     rows = np.array(rows)

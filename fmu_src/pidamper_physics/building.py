@@ -77,16 +77,18 @@ class ShearBuilding:
             a0, a1 = 2.0 * self.zeta * w1 * wj / (w1 + wj), 2.0 * self.zeta / (w1 + wj)
             self.rayleigh = (a0, a1)
             self.zetas = [a0 / (2.0 * w) + a1 * w / 2.0 for w in self.omegas]
-            self.C = self.damping_matrix(self.K)
+            self.C = self._rayleigh(self.K)
 
-    def damping_matrix(self, K):
-        """C [N s/m] with the stiffness matrix K [N/m] (nested lists): a0 M + a1 K under a Rayleigh
-        model, the model's fixed C otherwise."""
-        if self.rayleigh is None:
-            return self.C
+    def _rayleigh(self, K):
+        """a0 M + a1 K [N s/m] of the stiffness matrix K [N/m] (nested lists)."""
         a0, a1 = self.rayleigh
         n = self.n
         return [[(a0 * self.masses[i] if i == j else 0.0) + a1 * K[i][j] for j in range(n)] for i in range(n)]
+
+    def damping_matrix(self, K):
+        """C [N s/m] in a regime of the storeys whose stiffness matrix is K [N/m]: a0 M + a1 K under
+        RAYLEIGH_TANGENT, the model's fixed C otherwise."""
+        return self._rayleigh(K) if self.damping == RAYLEIGH_TANGENT else self.C
 
     def tangent_damping(self):
         """True when C follows the storeys' tangent stiffness (RAYLEIGH_TANGENT)."""

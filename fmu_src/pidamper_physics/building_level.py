@@ -97,7 +97,7 @@ class BuildingModel(LevelModel):
             K[j][n] -= p.m * p.w1 * p.w1
             Kf = _per_mass(K, b.masses) + [self.Kf[n]]
             Kr = _per_mass(self.storeys.stiffness(), self.ride_masses)
-            C = b.damping_matrix(self.storeys.stiffness())  # (b.C unless Rayleigh on the tangent)
+            C = b.damping_matrix(self.storeys.stiffness())  # (b.C itself unless Rayleigh on the tangent)
             Cf, Cr = (self.Cf, self.Cr) if C is b.C else self._damping(C)
             try:
                 systems = ((solved_modes(Kf, Cf), Kf, Cf), (solved_modes(Kr, Cr), Kr, Cr), Kf, Cf, Kr, Cr, C)
