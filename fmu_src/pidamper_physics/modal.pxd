@@ -14,14 +14,16 @@ cdef double _INF
 @cython.locals(a=cython.double, b=cython.double, el=cython.double)
 cpdef double complex _exp(double complex z) except *
 
-@cython.locals(a=cython.double, b=cython.double, e=cython.doublecomplex, ea=cython.double, h=cython.double,
-               omc=cython.double, em=cython.doublecomplex)
+@cython.locals(a=cython.double, b=cython.double, e=cython.doublecomplex, em=cython.doublecomplex)
 cpdef tuple exp_pair(double complex z)
+
+@cython.locals(ea=cython.double, h=cython.double, omc=cython.double)
+cdef double complex _expm1_near_zero(double a, double b) noexcept
 
 @cython.locals(k=cython.Py_ssize_t, term=cython.doublecomplex, total=cython.doublecomplex)
 cpdef double complex phi1(double complex w) except *
 
-@cython.locals(a=cython.double, b=cython.double, ea=cython.double, h=cython.double, omc=cython.double)
+@cython.locals(a=cython.double, b=cython.double)
 cpdef double complex _exp_lead(double complex z) except *
 
 @cython.locals(w=cython.doublecomplex)

@@ -66,10 +66,7 @@ def exp_pair(z):
     if a * a + b * b > 0.25:
         e = _exp(z)
         return e, e - 1.0
-    ea = _libm.expm1(a)
-    h = _libm.sin(0.5 * b)
-    omc = 2.0 * h * h  # 1 - cos(b)
-    em = _cx.parts(ea - ea * omc - omc, (1.0 + ea) * 2.0 * h * _libm.cos(0.5 * b))
+    em = _expm1_near_zero(a, b)
     return em + 1.0, em
 
 
@@ -78,10 +75,15 @@ def _exp_lead(z):
     a, b = z.real, z.imag
     if a * a + b * b > 0.25:
         return _exp(z)
+    return _expm1_near_zero(a, b) + 1.0
+
+
+def _expm1_near_zero(a, b):
+    """exp(a + i b) - 1 for |a + i b| <= 0.5, from expm1 and the half-angle sine (no cancellation)."""
     ea = _libm.expm1(a)
     h = _libm.sin(0.5 * b)
-    omc = 2.0 * h * h
-    return _cx.parts(ea - ea * omc - omc, (1.0 + ea) * 2.0 * h * _libm.cos(0.5 * b)) + 1.0
+    omc = 2.0 * h * h  # 1 - cos(b)
+    return _cx.parts(ea - ea * omc - omc, (1.0 + ea) * 2.0 * h * _libm.cos(0.5 * b))
 
 
 class ModesError(ValueError):
