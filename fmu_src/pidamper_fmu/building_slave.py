@@ -23,6 +23,7 @@ import uuid
 from pythonfmu import Real
 from pythonfmu.default_experiment import DefaultExperiment
 
+from pidamper_physics.imk_storeys import check_storey_law, imk_tables
 from pidamper_physics.params import FLOOR_MASS, MAX_STOREYS, STOREY_HEIGHT, STOREY_STIFFNESS
 from pidamper_physics.shear_motion import ShearMotion
 from pidamper_physics.storeys import GRAVITY
@@ -30,7 +31,7 @@ from pidamper_physics.yielding import building_motion
 
 from .adapter import ComponentSlave
 from .common import Refusal
-from .storey_tables import drift_monitor, yielding_outputs, yielding_parameters
+from .storey_tables import drift_monitor, imk_entries, yielding_outputs, yielding_parameters
 
 SOURCE_HASH = "development"  # replaced by build_fmu with a hash of the shipped sources
 VERSION = "0.1.0"
@@ -111,8 +112,9 @@ class ShearBuildingSlave(ComponentSlave):
         values, n = self._values, self.STOREYS
         m, k, h, fy, b = ([values[pattern.format(i)] for i in range(1, n + 1)] for pattern in
                           ("floor[{}].m", "storey[{}].k", "storey[{}].h", "storey[{}].Fy", "storey[{}].b"))
+        imk = imk_tables(k, fy, imk_entries(values, n)) if check_storey_law(values["storey_law"]) else None
         core = building_motion(m, k, h, values["zeta_s"], fy, b, values["p_delta"], values["g"],
-                               values["collapse_drift"], t0=self._t0, damping=values["damping"])
+                               values["collapse_drift"], t0=self._t0, damping=values["damping"], imk=imk)
         self._drift = drift_monitor(values["drift_limit"])
         if not isinstance(core, ShearMotion):  # yielding storeys: they may collapse
             core.on_collapse = self._collapsed

@@ -28,7 +28,8 @@ from .modal_segments import ModalFlight, ModalStick, harmonic_work, take_peaks
 from .params import ParameterError, check_finite
 from .stepping import at_rest, rest_peaks
 from .peaks import Peaks
-from .storeys import Hysteresis
+from .imk_storeys import IMKHysteresis
+from .storeys import KEPT_REGIMES, Hysteresis
 from .yielding import StoreyGuards
 
 
@@ -72,7 +73,11 @@ class BuildingModel(LevelModel):
         self._ground = 0.0  # the held ground acceleration of the segments being built [m/s2]
         # yielding storeys (storeys.py): their state, each regime's (free, ride) systems, the piece's
         # hysteretic energy (booked by follow, taken off the dashpots' share by work)
-        self.storeys = None if p.law is None else Hysteresis(p.law, b.heights, p.collapse_drift, max(b.omegas))
+        self.storeys = None
+        if p.law is not None:
+            w = max(b.omegas)
+            self.storeys = Hysteresis(p.law, b.heights, p.collapse_drift, w) if p.imk is None else \
+                IMKHysteresis(p.law, p.imk, b.heights, p.collapse_drift, w)
         self._regimes = {}
         self._hysteretic = 0.0
         self._acc_key = self._acc = None  # the last state's floor accelerations: the outputs of a step ask twice
@@ -87,9 +92,11 @@ class BuildingModel(LevelModel):
     def _regime(self):
         """Point free, ride, Kf, Cf, Kr, Cr at the current regime's systems (built once per regime);
         a regime without modes collapses the building (its reason kept) and keeps the last ones."""
-        key = tuple(self.storeys.regime)
+        key = self.storeys.key()
         systems = self._regimes.get(key)
         if systems is None:
+            if len(self._regimes) >= KEPT_REGIMES:  # (deteriorating storeys rarely revisit a regime)
+                self._regimes.clear()
             p, j, n = self.p, self.j, self.n
             b = p.building
             K = [row + [0.0] for row in self.storeys.stiffness()]

@@ -103,6 +103,12 @@ def _div(a, b):
     return a / b
 
 
+def _first_event(candidate):
+    """Sort key of a piece's candidate ends (length, kind): the shortest, an event before the end
+    of the move at the same length (a move that ends exactly at a crossing of zero force crosses)."""
+    return candidate[0], candidate[1] == END
+
+
 def _beta(energy, reference, c):
     """(energy / reference)^c, the source's deterioration factor (its clamping is the caller's); 0
     where C's pow() of a negative base and a non-integer exponent gives nan."""
@@ -131,6 +137,15 @@ class _Side:
         self.kpc = -self.kpc0
         self.fy0 = fy
         self.fy, self.ucap, self.fcap, self.fres = s * fy, s * (uy + dp), s * fcap, s * fy * fres
+
+    def clone(self):
+        other = object.__new__(_Side)
+        for key in _Side.__slots__:
+            setattr(other, key, getattr(self, key))
+        return other
+
+    def snapshot(self):
+        return tuple(getattr(self, key) for key in _Side.__slots__)
 
     def force(self, u):
         """The backbone's force at u (both slopes extended past zero, the residual a floor)."""
@@ -336,6 +351,8 @@ class IMKStorey:
                 if self._excursion(d):
                     self._flags(d, exhausted=True)
                     continue
+                crossed = True
+                self._crossed_at = self.u  # (a move ending here: the next one starts past this crossing)
             if self.u == target:
                 return self.f
             self._crossed_at = None
@@ -344,12 +361,68 @@ class IMKStorey:
         self.u, self.f = target, 0.0
         return self.f
 
+    # ---- a leg in pieces (a building's storey: its events located by the building) ------
+
+    def start(self, d):
+        """Begin a leg in direction d where the storey stands, as `move` does (a reversal, an
+        excursion, whatever happens at once); the plan of its first piece (`_plan`, towards
+        d * infinity), or None if the storey is lost.  `take(d, plan)` takes it to its event."""
+        self.turn(d)
+        return self.resume(d)
+
+    def resume(self, d):
+        """Go on in direction d from an event of the leg (`move`'s loop, without a turn): what
+        happens at once there, then the plan of the next piece (None if the storey is lost)."""
+        crossed = self._crossed_at == self.u
+        far = d * _INF
+        while self.failure != LOST:
+            if not self.on_backbone and self.f == 0.0 and self.failure > ELASTIC and not crossed:
+                if self._excursion(d):
+                    self._flags(d, exhausted=True)
+                    continue
+            self._crossed_at = None
+            plan = self._plan(d, far)
+            if plan is not None:
+                return plan
+            crossed = False
+        self.f = 0.0
+        return None
+
+    def take(self, d, plan):
+        """Take a planned piece to its event (its length must be finite)."""
+        self._crossed_at = None
+        self._take(d, self.u + d * plan[0], plan)
+
+    def clone(self):
+        """An independent copy of the storey's state (events not recorded)."""
+        other = object.__new__(IMKStorey)
+        for key in ("ke", "cs", "cc", "ck", "ref_s", "ref_c", "ref_k", "u", "f", "k", "e_acc", "e_crossing",
+                    "failure", "on_backbone", "_crossed_at"):
+            setattr(other, key, getattr(self, key))
+        other.pos, other.neg, other.events = self.pos.clone(), self.neg.clone(), None
+        return other
+
+    def snapshot(self):
+        """The storey's whole state as a tuple (for comparison)."""
+        return (self.u, self.f, self.k, self.e_acc, self.e_crossing, self.failure, self.on_backbone, self._crossed_at,
+                self.pos.snapshot(), self.neg.snapshot())
+
     def _piece(self, d, target):
         """One linear piece from the current point towards `target`, to its first event."""
+        plan = self._plan(d, target)
+        if plan is not None:
+            self._take(d, target, plan)
+
+    def _plan(self, d, target):
+        """The piece `_piece` takes next towards `target` (d its direction): (length [m], kind,
+        reach = d (target - u), follow: whether it follows the backbone, kb: the backbone's slope
+        ahead).  What happens at once on leaving in direction d is done here (onto a deteriorated
+        backbone, the backbone followed); None if that ended the piece (a side lost, a stretch of
+        zero force along the backbone)."""
         u, f, k = self.u, self.f, self.k
         if f != 0.0 and (u >= self.pos.du if d > 0 else u <= -self.neg.du):
             self._flags(d)  # moving on beyond an ultimate drift: that side's strength is gone at once
-            return
+            return None
         near, kb = self._ahead(d)
         fb = self.backbone(d, u)
         if d * (fb - f) < 0.0:  # a deteriorated backbone below the point: onto it
@@ -361,7 +434,7 @@ class IMKStorey:
         if follow:
             self.on_backbone = True
             if f == 0.0 and kb == 0.0 and u * d <= 0.0 and self._zero_backbone(d):
-                return
+                return None
         reach = d * (target - u)
         candidates = [(reach, END), (near, KINK)]
         if not follow:
@@ -376,8 +449,14 @@ class IMKStorey:
         if d < 0 and u > -self.neg.du:
             candidates.append((u + self.neg.du, ULTIMATE))
         candidates.append((self._to_residual(d), RES))
-        length, kind = min(candidates, key=lambda c: c[0])
-        end = length >= candidates[0][0]
+        length, kind = min(candidates, key=_first_event)
+        return length, kind, reach, follow, kb
+
+    def _take(self, d, target, plan):
+        """Take a piece `_plan` gave (to its event, or to `target` if that comes first)."""
+        length, kind, reach, follow, kb = plan
+        u, f, k = self.u, self.f, self.k
+        end = length >= reach
         s = target if end else u + d * length
         if follow:
             f_new = self.backbone(d, s)
@@ -387,14 +466,16 @@ class IMKStorey:
             f_new = f + k * (s - u)
         self.e_acc += 0.5 * (f + f_new) * (s - u)
         self.u, self.f = s, f_new
-        if kind == CROSS and length <= candidates[0][0]:
+        if kind == CROSS and length <= reach:
             self.f = 0.0
             exhausted = self._excursion(d)
             self._crossed_at = s
             self._flags(d, exhausted)
             return
-        if kind == TOUCH and length <= candidates[0][0]:
+        if kind == TOUCH and length <= reach:
             self.on_backbone = True
             self.f = self.backbone(d, s)
             self._note("touch")
+        elif kind == KINK and length < reach:
+            self._note("kink")
         self._flags(d, plateau=follow and kb == 0.0 and length > _CORNER * self.pos.fy0 / self.ke)

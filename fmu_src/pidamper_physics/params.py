@@ -22,6 +22,7 @@ import math
 from .building import ShearBuilding
 from .impact import MATERIAL_DEFAULTS, MATERIAL_NAMES, check_contact
 from .refusals import SCALE_RANGE, ParameterError, check_finite
+from .imk_storeys import IMK_DEFAULTS, check_storey_law, imk_law, imk_tables
 from .storeys import COLLAPSE_DRIFT, HARDENING, check_damping, check_storeys
 
 DISPLACEMENT = 0
@@ -64,14 +65,15 @@ class Params:
 
     NAMES = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi", "fidelity",
              "zeta_s", "zeta_p", "storeys", "damper_floor", "floor_m", "storey_k", "storey_h", "storey_Fy", "storey_b",
-             "p_delta", "collapse_drift", "damping") + MATERIAL_NAMES
+             "p_delta", "collapse_drift", "damping", "storey_law", "storey_imk") + MATERIAL_NAMES
 
     def __init__(self, g=DEFAULTS["g"], M=DEFAULTS["M"], mu=DEFAULTS["mu"], L2=DEFAULTS["L2"],
                  FR=DEFAULTS["FR"], d=DEFAULTS["d"], d_angle=DEFAULTS["d_angle"], e=DEFAULTS["e"],
                  contact_form=DEFAULTS["contact_form"], F0=DEFAULTS["F0"], Omega=DEFAULTS["Omega"],
                  phi=DEFAULTS["phi"], fidelity=DEFAULTS["fidelity"], zeta_s=DEFAULTS["zeta_s"],
                  zeta_p=DEFAULTS["zeta_p"], storeys=0, damper_floor=0, floor_m=None, storey_k=None, storey_h=None,
-                 storey_Fy=None, storey_b=None, p_delta=0, collapse_drift=COLLAPSE_DRIFT, damping=0, **materials):
+                 storey_Fy=None, storey_b=None, p_delta=0, collapse_drift=COLLAPSE_DRIFT, damping=0, storey_law=0,
+                 storey_imk=None, **materials):
         for name in ("g", "M", "L2", "FR", "d", "d_angle"):
             _positive(name, locals()[name])
         if check_finite("mu", mu) < 0.0:
@@ -105,7 +107,9 @@ class Params:
         self.storey_Fy = _per_storey("storey_Fy", storey_Fy, 0.0)
         self.storey_b = _per_storey("storey_b", storey_b, HARDENING)
         self.p_delta, self.collapse_drift, self.damping = p_delta, collapse_drift, damping
+        self.storey_law, self.storey_imk = check_storey_law(storey_law), storey_imk
         self.law = None  # the storeys' law (storeys.Storeys) of a building
+        self.imk = None  # with storey_law 1: per storey the 21 IMKBilin values
         if self.storeys:
             self._set_building()
         else:
@@ -149,12 +153,18 @@ class Params:
         self.floor = (self.damper_floor or n) - 1  # index of the damper floor
         self.M = self.building.masses[self.floor]
         self.m = self.mu * self.building.total_mass
-        law = check_storeys(self.storey_k[:n], self.storey_Fy[:n], self.storey_b[:n], self.storey_h[:n],
+        fy, b = self.storey_Fy[:n], self.storey_b[:n]
+        if self.storey_law:
+            self.imk = imk_tables(self.storey_k[:n], fy, self.storey_imk)
+            fy, b = [min(t[4], t[10]) for t in self.imk], [0.0] * n
+        law = check_storeys(self.storey_k[:n], fy, b, self.storey_h[:n],
                             self.floor_m[:n], self.p_delta, self.g, self.collapse_drift, (self.floor, self.m))
         if self.p_delta:  # the building of K - K_G: its modes, damping and first frequency
             self.building = check_building(self.floor_m[:n], self.storey_k[:n], self.zeta_s, self.storey_h[:n],
                                            law.geometric, self.damping)
-        if law.any_yield:
+        if self.imk is not None:
+            self.law = imk_law(self.imk, law.geometric)
+        elif law.any_yield:
             check_damping(law, self.zeta_s if self.fidelity else 0.0, self.building.spread)
             self.law = law
         self.w2 = self.building.w_1
@@ -178,6 +188,9 @@ class Params:
             listed = [values.get(pattern.format(k)) for k in range(1, MAX_STOREYS + 1)]
             if any(v is not None for v in listed):
                 kwargs[key] = [default if v is None else v for v in listed]
+        if values.get("storey_law"):
+            kwargs["storey_imk"] = [{name: values[f"storey[{k}].{name}"] for name in IMK_DEFAULTS
+                                     if f"storey[{k}].{name}" in values} for k in range(1, MAX_STOREYS + 1)]
         return cls(**kwargs)
 
 

@@ -144,6 +144,8 @@ def check_damping(storeys, zeta, spread=1.0):
 
 
 YIELD, UNLOAD, COLLAPSE = 0, 1, 2  # the kinds of a storey guard
+#: a building keeps the modes of at most this many regimes (deteriorating storeys rarely revisit one)
+KEPT_REGIMES = 256
 
 
 class Hysteresis:
@@ -167,6 +169,14 @@ class Hysteresis:
         self._guards = None  # (version, guards())
 
     # ---- the regime's linear system -----------------------------------------------------
+
+    def key(self):
+        """What the regime's linear system depends on (a dict key): the storeys' regimes."""
+        return tuple(self.regime)
+
+    def pristine(self):
+        """No storey has yielded: the storeys are the elastic building's."""
+        return not any(self.regime) and not any(self.dp)
 
     def stiffness(self):
         """K_t [N/m] (n x n, nested lists) of the current regime, P-Delta included."""

@@ -36,19 +36,32 @@ from .refusals import ParameterError, check_finite, check_step
 from .segments import TOLERANCE
 from .shear_motion import ShearMotion, make_building
 from .stepping import MAX_PIECES, same_bits, same_floats
-from .storeys import Hysteresis, check_damping, check_storeys
+from .imk_storeys import IMKHysteresis, check_tables, imk_law
+from .storeys import KEPT_REGIMES, Hysteresis, check_damping, check_storeys
 
 
 def building_motion(masses, stiffnesses, heights, zeta, yield_forces, ratios, p_delta=0, g=9.81,
-                    collapse_drift=0.1, t0=0.0, damping=0):
+                    collapse_drift=0.1, t0=0.0, damping=0, imk=None):
     """The motion of a bare shear building, its parameters checked (a ParameterError names the
     value and the rule): ShearMotion if no storey can yield, else YieldingMotion.  Floors [kg],
     storeys' stiffnesses [N/m], heights [m], yield forces [N] (0 elastic) and hardening ratios
     storey 1 first; zeta: every elastic mode's damping ratio; p_delta 0/1 with gravity g [m/s2];
     collapse_drift: the drift ratio at which a yielding building collapses; damping: the model
-    (building.DAMPING_MODELS: 0 modal, 1 / 2 Rayleigh on the initial / tangent stiffness)."""
+    (building.DAMPING_MODELS: 0 modal, 1 / 2 Rayleigh on the initial / tangent stiffness); imk: per
+    storey the 21 IMKBilin values (imk.PARAMETERS) of deteriorating storeys, whose Ke must be the
+    storey's stiffness (then yield_forces and ratios are not read), or None."""
     make_building(masses, stiffnesses, zeta, heights, None, damping)  # the elastic building's own checks first
+    if imk is not None:
+        tables = check_tables(imk, len(masses))
+        for k, table in enumerate(tables):
+            if table[0] != stiffnesses[k]:
+                raise ParameterError(f"storey[{k + 1}].Ke", table[0], f"it must be the storey's stiffness storey[{k + 1}].k"
+                                     f" = {stiffnesses[k]!r} N/m")
+        yield_forces, ratios = [min(t[4], t[10]) for t in tables], [0.0] * len(tables)
     law = check_storeys(stiffnesses, yield_forces, ratios, heights, masses, p_delta, g, collapse_drift)
+    if imk is not None:
+        building = make_building(masses, stiffnesses, zeta, heights, law.geometric, damping)
+        return YieldingMotion(building, imk_law(tables, law.geometric), collapse_drift, t0=t0, tables=tables)
     building = make_building(masses, stiffnesses, zeta, heights, law.geometric, damping)
     if not law.any_yield:
         return ShearMotion(building, t0=t0)
@@ -64,13 +77,15 @@ class YieldingMotion:
     geometric stiffness, the yield forces and hardening ratios); collapse_drift [1]: the drift
     ratio at which the building counts as collapsed."""
 
-    def __init__(self, building, law, collapse_drift, t0=0.0):
+    def __init__(self, building, law, collapse_drift, t0=0.0, tables=None):
         self.b = building
         self.n = n = building.n
         self.t = check_finite("start time", t0)
         self.x, self.v = [0.0] * n, [0.0] * n
         self._max_span = 2.0 * math.pi / max(building.omegas)
-        self.storeys = Hysteresis(law, building.heights, collapse_drift, max(building.omegas))
+        w = max(building.omegas)
+        self.storeys = Hysteresis(law, building.heights, collapse_drift, w) if tables is None else \
+            IMKHysteresis(law, tables, building.heights, collapse_drift, w)
         self.fresh = False
         self.work_in = self.viscous = 0.0
         self.frozen = None  # (absolute accelerations, base shear) at the collapse instant
@@ -285,9 +300,11 @@ class YieldingMotion:
         return modes
 
     def _regime_modes(self):
-        key = tuple(self.storeys.regime)
+        key = self.storeys.key()
         modes = self._systems.get(key)
         if modes is None:
+            if len(self._systems) >= KEPT_REGIMES:  # (deteriorating storeys rarely revisit a regime)
+                self._systems.clear()
             stiffness = self.storeys.stiffness()
             K = [[k / m for k in row] for row, m in zip(stiffness, self.b.masses)]
             c = self._c
@@ -409,7 +426,7 @@ class YieldingMotion:
         """The elastic track from get_state's [q, q'] (None: off it); a state whose storeys have
         yielded is off it, and one whose floors are not the track's takes them (projected)."""
         n, storeys = self.n, self.storeys
-        if modal is None or storeys.collapsed or any(storeys.regime) or any(storeys.dp):
+        if modal is None or storeys.collapsed or not storeys.pristine():
             self.track = None
             return
         if not (isinstance(modal, list) and len(modal) == 2 and all(isinstance(c, list) and len(c) == n

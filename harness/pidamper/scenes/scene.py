@@ -29,10 +29,12 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from pidamper_physics.imk_storeys import IMK_DEFAULTS
 from pidamper_physics.impact import MATERIAL_NAMES
 from pidamper_physics.params import LEVELS, MAX_STOREYS
 
 from .. import forcing as forcing_mod
+from ..forcing.ground_motion import FEMA_P695_SETS
 from ..errors import FieldError
 from ..runlog.mcap_log import TOPICS as MCAP_TOPICS
 from ..runlog.rerun_log import VIEWS as RERUN_VIEWS
@@ -46,15 +48,16 @@ else:  # pragma: no cover
 PARAMETERS = ("g", "M", "mu", "L2", "FR", "d", "d_angle", "e", "contact_form", "F0", "Omega", "phi",
               "theta_0", "theta_dot_0", "alpha_0", "alpha_dot_0", "angle_limit", "zeta_s", "zeta_p",
               "storeys", "damper_floor", "floor_m", "storey_k", "storey_h", "storey_Fy", "storey_b", "p_delta",
-              "collapse_drift", "damping") + MATERIAL_NAMES
+              "collapse_drift", "damping", "storey_law") + MATERIAL_NAMES + tuple(f"storey_{name}" for name in IMK_DEFAULTS)
 #: a building's per-storey parameters: a number (every storey) or a list (storey 1 first), and the
-#: FMU variables they fill
+#: FMU variables they fill (storey_<IMKBilin name>: storey[k].<IMKBilin name>, with storey_law = 1)
 PER_STOREY = {"floor_m": "floor[{}].m", "storey_k": "storey[{}].k", "storey_h": "storey[{}].h",
-              "storey_Fy": "storey[{}].Fy", "storey_b": "storey[{}].b"}
+              "storey_Fy": "storey[{}].Fy", "storey_b": "storey[{}].b",
+              **{f"storey_{name}": f"storey[{{}}].{name}" for name in IMK_DEFAULTS}}
 #: one storey's FMU variable (floor[k].m, storey[k].k, ...): it overrides the per-storey parameter
 STOREY_VARIABLE = re.compile(r"(floor|storey)\[(\d+)\]\.(\w+)")
 STOREY_VARIABLES = tuple(pattern.format("k") for pattern in PER_STOREY.values())
-INTEGERS = ("storeys", "damper_floor", "contact_form", "p_delta", "restitution")
+INTEGERS = ("storeys", "damper_floor", "contact_form", "p_delta", "restitution", "damping", "storey_law")
 FIDELITY = LEVELS  # linear, damped, coupled, nonlinear: FMU parameter fidelity = the index
 SECTIONS = ("description", "name", "parameters", "forcing", "run", "outputs", "log")
 FORCING_ARGS = {
@@ -63,6 +66,7 @@ FORCING_ARGS = {
     "sweep": ("F0", "Omega_start", "Omega_end", "Omega_start_ratio", "Omega_end_ratio"),
     "csv": ("file",),
     "kanai-tajimi": ("pga", "omega_g", "zeta_g", "seed", "dt", "rise", "strong"),
+    "fema-p695": ("set", "record", "component", "scale"),
 }
 RUN_KEYS = ("stop_time", "periods", "output_interval", "fidelity")
 LOG_KEYS = ("mcap", "rrd", "mcap_topics", "rerun_views")
@@ -130,6 +134,8 @@ class Scene:
                 raise SceneError(self.source, "forcing.file", f["file"],
                                  f"it must name an existing file (looked for {path.resolve()})")
             return forcing_mod.from_csv(path)
+        if kind == "fema-p695":
+            return forcing_mod.fema_p695(**{k: f[k] for k in FORCING_ARGS[kind] if k in f})
         args = {k: f[k] for k in FORCING_ARGS["kanai-tajimi"] if k in f}
         return forcing_mod.kanai_tajimi(self.stop_time, **args)
 
@@ -262,6 +268,13 @@ def parse(data, source="scene", folder=Path("."), name="scene"):
         elif key == "sampled":
             if not isinstance(value, bool):
                 raise SceneError(source, "forcing.sampled", value, "true or false")
+        elif key == "set":
+            if value not in FEMA_P695_SETS:
+                raise SceneError(source, "forcing.set", value, f"one of {', '.join(FEMA_P695_SETS)}")
+        elif key == "component":
+            if value not in ("a", "b"):
+                raise SceneError(source, "forcing.component", value, "'a' or 'b' (the record's two horizontal "
+                                 "components)")
         else:
             _number(source, f"forcing.{key}", value)
     if kind == "csv" and "file" not in forcing:
