@@ -82,3 +82,22 @@ def test_a_storey_that_cannot_stand_is_refused():
     with pytest.raises(ParameterError, match=r"storey\[1\]\.Ke .*P/h"):
         pushover([1e7], [law(6e5, ke=1e7)], [3.0], p_delta=True, g=G)
     assert math.isfinite(pushover([1e7], [law(6e5, ke=1e8)], [3.0], p_delta=True, g=G).mu_t)
+
+
+def test_the_assessment_s_pushover_of_a_deteriorating_building_is_this_one():
+    """`pidamper assess` takes FEMA P-695's pushover of a building with storey_law = 1 from
+    of_params(Params): the deteriorating one, to 20 % strength loss (one storey: the closed form)."""
+    from pidamper.assessment.deteriorating_pushover import of_params
+    from pidamper_physics import Params
+
+    m, h, fy, ke, dp, dpc, fmax = 2e5, 3.0, 6e5, 8e7, 0.02, 0.3, 1.3
+    params = Params(storeys=1, floor_m=[m], storey_k=[ke], storey_h=[h], storey_Fy=[fy], p_delta=1, g=G, mu=0.0,
+                    storey_law=1, storey_imk=[{"dp_pos": dp, "dp_neg": dp, "dpc_pos": dpc, "dpc_neg": dpc,
+                                               "FmaxFy_pos": fmax, "FmaxFy_neg": fmax}])
+    push = of_params(params)
+    geo = G * m / h
+    ucap = fy / ke + dp
+    assert push.v_max == pytest.approx(fmax * fy - geo * ucap, rel=1e-13)
+    assert "20 % of the peak" in push.limit and push.weight == pytest.approx(G * m)
+    kpc = fmax * fy / dpc
+    assert push.delta_u == pytest.approx((fmax * fy + kpc * ucap - 0.8 * push.v_max) / (kpc + geo), rel=1e-13)

@@ -49,7 +49,8 @@ def run_bare(ag, seconds, damping=0, collapse_drift=0.3, tables=TABLES):
 
 
 def run_reference(ag, steps, damping=0, damper=None, tables=TABLES):
-    ref = IMKReference(M3, tables, H3, 0.05, p_delta=True, damping=NAMES[damping], collapse_drift=0.3, damper=damper)
+    ref = IMKReference(M3, tables, H3, 0.05, IMKStorey, p_delta=True, damping=NAMES[damping], collapse_drift=0.3,
+                       damper=damper)
     return ref, ref.run(np.arange(steps + 1) * DT, ag)[1:]
 
 
@@ -274,3 +275,24 @@ def test_collapse_is_the_building_s_not_the_drift_guard_s():
     low, high = median(0.15, TABLES), median(0.30, TABLES)
     assert abs(high - low) <= 0.02 * low
     assert median(0.30, None) > 1.2 * median(0.15, None)  # bilinear storeys (b = 0.02): only the guard stops them
+
+
+@pytest.mark.parametrize("damper", [False, True])
+def test_both_building_fmus_refuse_a_bad_table_naming_the_storey_and_the_rule(fmu_dir, damper):
+    """A capping force below the yield force, an ultimate drift before capping: refused at
+    initialization through the FMI logger, naming the storey's parameter, its value and the rule."""
+    from fmpy.fmi1 import FMICallException
+
+    from pidamper import find_fmu
+    from pidamper.running.instance import FmuInstance
+
+    for name, value, rule in (("storey[2].FmaxFy_pos", 0.9, "capping force"), ("storey[3].du_neg", 0.01, "ultimate")):
+        messages = []
+        values = {"storey_law": 1, **{f"storey[{k}].Fy": 6e5 for k in (1, 2, 3)}, name: value}
+        if damper:
+            values.update({"fidelity": 1, "zeta_s": 0.05})
+        with pytest.raises(FMICallException):
+            with FmuInstance(find_fmu(storeys=3, damper=damper), values,
+                             logger=lambda status, text: messages.append(text)) as fmu:
+                fmu.do_step(0.0, 0.01)
+        assert any(f"{name} = {value!r} is not allowed" in text and rule in text for text in messages), messages

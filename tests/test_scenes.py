@@ -175,6 +175,10 @@ def test_a_recorded_accelerogram_runs_from_a_scene_file(fmu_path, tmp_path):
      "the building's storeys are 1..3"),
     ("[parameters]\nstorey_k = 1e8\n", "parameters.storey_k", "100000000.0", "give storeys >= 1 with it"),
     ("[parameters]\nstoreys = 11\n", "parameters.storeys", "11", "an integer in 0..10"),
+    ("[forcing]\nkind = \"fema-p695\"\ncomponent = \"c\"\n", "forcing.component", "'c'", "'a' or 'b'"),
+    ("[forcing]\nkind = \"fema-p695\"\nset = \"mine\"\n", "forcing.set", "'mine'", "one of fema-p695-far-field"),
+    ("[parameters]\nstoreys = 3\nstorey_law = 1.5\n", "parameters.storey_law", "1.5", "an integer"),
+    ("[parameters]\nstorey_dp_pos = 0.02\n", "parameters.storey_dp_pos", "0.02", "give storeys >= 1 with it"),
 ])
 def test_invalid_scenes_are_refused_with_field_value_and_what_is_allowed(tmp_path, text, field, value, allowed):
     path = write(tmp_path, text)

@@ -658,10 +658,13 @@ def p695_lines(study, rows, out, collapse=None):
     the medians; the page's lines and pushover.png."""
     from pidamper_physics import Params
 
-    from . import bootstrap, p695
+    from . import bootstrap, deteriorating_pushover, p695
 
     spec = study.p695
-    push = p695.pushover(Params.from_variables({**start_values(study.building), "mu": 0.0}))
+    bare = Params.from_variables({**start_values(study.building), "mu": 0.0})
+    push = p695.pushover(bare) if bare.imk is None else deteriorating_pushover.of_params(bare)
+    ends = ("the storeys deteriorate (IMKBilin): exact to 20 % strength loss" if bare.imk is not None else
+            "the storeys do not deteriorate, so a rising curve ends at the collapse drift")
     plot_pushover(push, Path(out) / "pushover.png")
     levels = np.asarray(study.levels)
     confs = list(study.configurations)
@@ -669,8 +672,8 @@ def p695_lines(study, rows, out, collapse=None):
     lines = ["", "## Collapse margin (FEMA P-695)", "",
              f"Pushover of the bare building with P-Delta (loads along the first mode of K - K_G): peak base shear "
              f"{push.v_max / 1e3:.1f} kN ({push.v_max / push.weight:.3f} W), ultimate roof displacement "
-             f"{push.delta_u:.3f} m ({push.limit}; the storeys do not deteriorate, so a rising curve ends at the "
-             f"collapse drift), effective yield {push.delta_y_eff:.4f} m: mu_T = {push.mu_t:.2f}. SDC "
+             f"{push.delta_u:.3f} m ({push.limit}; {ends}), effective yield {push.delta_y_eff:.4f} m: "
+             f"mu_T = {push.mu_t:.2f}. SDC "
              f"{spec['sdc']}, ratings {'/'.join(spec['ratings'])} (design requirements, test data, model), record set "
              f"{spec['record_set']}; Sa at the model's T1 = {study.period:.3f} s (FEMA P-695 takes T = Cu Ta: the "
              "margin's SMT and SSF are read at T1 here).", "",

@@ -19,7 +19,7 @@ import numpy as np
 from pidamper_physics.imk import IMKStorey
 from pidamper_physics.refusals import ParameterError
 
-from .p695 import first_mode, period_based_ductility
+from .p695 import Pushover, first_mode, period_based_ductility
 
 
 @dataclass
@@ -32,6 +32,15 @@ class DeterioratingPushover:
     mu_t: float
     critical: int  # the storey that softens (1 = the first)
     limit: str  # what ended the curve
+
+
+def of_params(params):
+    """The pushover of pidamper_physics.Params of a building of deteriorating storeys (storey_law =
+    1) as p695.Pushover, the assessment's."""
+    n = params.storeys
+    po = pushover(params.floor_m[:n], params.imk, params.storey_h[:n], bool(params.p_delta), params.g)
+    return Pushover(po.roof, po.base_shear, po.v_max, po.delta_u, po.delta_y_eff, po.mu_t,
+                    params.g * float(np.sum(params.floor_m[:n])), po.limit)
 
 
 def pushover(masses, laws, heights, p_delta=True, g=9.81, drop=0.2):

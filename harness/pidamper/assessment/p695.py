@@ -50,7 +50,8 @@ def first_mode(m, k_eff):
 
 
 def pushover(params, points=400):
-    """Pushover (module doc) of pidamper_physics.Params of a building."""
+    """Pushover (module doc) of pidamper_physics.Params of a building of bilinear storeys (of
+    deteriorating ones: deteriorating_pushover.of_params)."""
     n = params.storeys
     m, k = np.asarray(params.floor_m[:n], float), np.asarray(params.storey_k[:n], float)
     h, fy, b = (np.asarray(getattr(params, name)[:n], float) for name in ("storey_h", "storey_Fy", "storey_b"))

@@ -1,7 +1,8 @@
 """An independent event-driven reference (a test oracle) for shear buildings of deteriorating
 storeys: yielding_reference's DOP853 at rtol 1e-12 (its matrices, damping, P-Delta and particle
-damper), with storeys of OpenSees's `IMKBilin` law (pidamper_physics.imk.IMKStorey, the law itself:
-it is checked on its own against OpenSees and by hand) and its own bookkeeping and event functions.
+damper), with storeys of OpenSees's `IMKBilin` law given to it (`storey`: the law's class, e.g.
+pidamper_physics.imk.IMKStorey, checked on its own against OpenSees and by hand: this reference
+checks the building, not the law) and its own bookkeeping and event functions.
 
 The law is rate independent and piecewise linear in drift.  The reference finds each storey's next
 piece by driving a copy of it: a copy moved far on in the direction of motion lists its events
@@ -10,22 +11,22 @@ piece give its force line.  Event functions: that end, every zero of a storey's 
 (where the law may turn), the force with P-Delta reaching zero along an outward backbone steeper
 down than P/h (sidesway: the reference stops there), and the drift ratio limit.  At an end the
 storey is moved to it, at a turn to where it stands; the law does the rest (reversals,
-excursions, deterioration) in its own order.  It shares with pidamper_physics the law and nothing
-of the building's event loop (imk_storeys, yielding)."""
+excursions, deterioration) in its own order.  It imports nothing of pidamper_physics: the law is
+the caller's argument, and nothing of the building's event loop (imk_storeys, yielding) is used."""
 import numpy as np
 from scipy.integrate import solve_ivp
-
-from pidamper_physics.imk import IMKStorey
 
 from .yielding_reference import Reference
 
 
 class IMKReference(Reference):
-    def __init__(self, m, laws, h, zeta, p_delta=False, g=9.81, damper=None, damping="modal", collapse_drift=0.3):
-        """laws: per storey the 21 IMKBilin values (their Ke the storey's stiffness)."""
+    def __init__(self, m, laws, h, zeta, storey, p_delta=False, g=9.81, damper=None, damping="modal",
+                 collapse_drift=0.3):
+        """laws: per storey the 21 IMKBilin values (their Ke the storey's stiffness); storey: the law's
+        class (storey(values) a storey at rest; move(u), turn(d), clone(), events, u, f, ...)."""
         n = len(m)
         super().__init__(m, [law[0] for law in laws], [0.0] * n, [0.0] * n, h, zeta, p_delta, g, damper, damping)
-        self.units = [IMKStorey(law) for law in laws]
+        self.units = [storey(law) for law in laws]
         self.theta_c = collapse_drift
         self.dirs = [1] * n
         self.lines = [self._line(i) for i in range(n)]

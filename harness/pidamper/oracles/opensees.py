@@ -125,15 +125,15 @@ def shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_d
 
 
 def damped_shear_building(masses, stiffnesses, yield_forces, ratios, heights, zeta, p_delta, floor, m, w1, zeta_p,
-                          d, Kh, xi, g=9.81):
+                          d, Kh, xi, g=9.81, imk=None):
     """The yielding shear building with the pendulum damper as OpenSees models one: the particle a
     node of mass m [kg] hung from floor `floor` (0-based) by a spring m w1^2 with the dashpot
     2 zeta_p m w1 (`Elastic` with eta), the two stops `JankowskiImpact` gap elements (Hertz
     stiffness Kh [N/m^1.5], damping ratio xi, the gap d [m] each way).  The building's classical
     modal damping is assembled as a network of `Viscous` dashpots (node to node and node to ground)
     whose matrix is exactly C = M Phi diag(2 zeta w) Phi^T M of the building's elastic modes (K -
-    K_G): `modalDamping` would damp the particle's modes as well.  Returns `ops`; the particle is
-    node PARTICLE."""
+    K_G): `modalDamping` would damp the particle's modes as well.  imk: per storey the 21 `IMKBilin`
+    values of deteriorating storeys instead of Steel01.  Returns `ops`; the particle is node PARTICLE."""
     import numpy as np
     import scipy.linalg
 
@@ -153,7 +153,10 @@ def damped_shear_building(masses, stiffnesses, yield_forces, ratios, heights, ze
     tag = 1
     for k in range(1, n + 1):
         fy, kk, b = float(yield_forces[k - 1]), float(stiffnesses[k - 1]), float(ratios[k - 1])
-        ops.uniaxialMaterial(*(("Steel01", tag, fy, kk, b) if fy > 0.0 else ("Elastic", tag, kk)))
+        if imk is not None:
+            ops.uniaxialMaterial("IMKBilin", tag, *[float(v) for v in imk[k - 1]])
+        else:
+            ops.uniaxialMaterial(*(("Steel01", tag, fy, kk, b) if fy > 0.0 else ("Elastic", tag, kk)))
         ops.element("zeroLength", tag, k - 1, k, "-mat", tag, "-dir", 1)
         tag += 1
         if p_delta:
