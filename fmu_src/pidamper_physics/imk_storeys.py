@@ -13,9 +13,11 @@ its own arithmetic); the building locates them as guards, each in metres:
 - reversal: where leaving in direction -d would change the storey at once (on the backbone: the
   unloading stiffness deteriorates; at a point of zero force: an excursion ends), the drift
   velocity's reversal d delta' / w >= 0;
-- instability: along a backbone, outward, with the slope below P/h, the drift where the storey's
-  restoring force with P-Delta, F - P delta / h, falls to zero: past it gravity pushes the storey
-  on and nothing in the storey stops it (the building collapses);
+- instability: along a piece whose slope is below P/h (post-capping, the residual plateau, an
+  unloading line whose stiffness deteriorated below it), the first drift where the storey moves
+  outward and its restoring force with P-Delta, F - P delta / h, no longer holds it back, if
+  nothing ahead along its path (the law's own moves of a copy) would: gravity carries it on, the
+  building collapses (sidesway);
 - collapse: the drift ratio collapse_drift (a guard far beyond the physics' collapse).
 
 At a guard's zero the storey takes its piece to the event in its own arithmetic (so a storey's

@@ -77,17 +77,56 @@ def ours_fmu(samples, damped=False, e=0.5):
     from pidamper.benchmarks.yielding_peer import quiet
 
     folder, md = unpacked(str(find_fmu(storeys=3, damper=damped)))
-    start = {"p_delta": 1, "zeta_s": ZETA, "storey_law": 1, "collapse_drift": 0.3,
-             **{f"storey[{k + 1}].Fy": YIELD_FORCES[k] for k in range(3)},
-             **{f"storey[{k}].{name}": v for k in (1, 2, 3) for name, v in ENTRY.items()}}
-    if damped:
-        start.update({**DAMPER, "fidelity": 1, "e": e})
+    start = fmu_start_values(damped, e)
     stop = (len(samples) - 1) * INTERVAL
     signal = np.array([(i * INTERVAL, a) for i, a in enumerate(samples)], dtype=[("time", float), ("a_g", float)])
     with quiet():  # (fmpy's note of every input the signal leaves at its start value)
         res = fmpy.simulate_fmu(folder, model_description=md, stop_time=stop, output_interval=INTERVAL, input=signal,
                                 start_values=start, output=["floor[3].x"], step_size=INTERVAL)
     return np.asarray(res["floor[3].x"])
+
+
+def fmu_start_values(damped=False, e=0.5):
+    """The FMU's start values of the building (and the damper)."""
+    start = {"p_delta": 1, "zeta_s": ZETA, "storey_law": 1, "collapse_drift": 0.3,
+             **{f"storey[{k + 1}].Fy": YIELD_FORCES[k] for k in range(3)},
+             **{f"storey[{k}].{name}": v for k in (1, 2, 3) for name, v in ENTRY.items()}}
+    if damped:
+        start.update({**DAMPER, "fidelity": 1, "e": e})
+    return start
+
+
+def native_cpu(damped=False, e=0.5, repeats=5):
+    """(CPU s per simulated s of our FMU in the native C host, median of `repeats`; its outputs):
+    benchmarks/native/every_output_host.c sets the start values, sets a_g to record()'s samples and
+    reads every output at every step, one call each (the steps only are timed)."""
+    import subprocess
+    import tempfile
+
+    import fmpy
+
+    from pidamper import find_fmu
+    from pidamper.benchmarks.floor import build_every_output_host
+
+    tmp = Path(tempfile.mkdtemp(prefix="pidamper_imk_host_"))
+    exe = build_every_output_host(tmp)
+    fmu = find_fmu(storeys=3, damper=damped)
+    md = fmpy.read_model_description(str(fmu))
+    unzipped = fmpy.extract(str(fmu), unzipdir=str(tmp / "fmu"))
+    by_name = {v.name: v for v in md.modelVariables}
+    params = [f"{'P' if by_name[k].type == 'Real' else 'Q'}:{by_name[k].valueReference}:{v!r}"
+              for k, v in fmu_start_values(damped, e).items()]
+    outputs = [f"{v.type[0]}:{v.valueReference}" for v in md.modelVariables if v.causality == "output"]
+    pulse = f"U:{by_name['a_g'].valueReference}:{AMPLITUDE!r}:{2.0 * math.pi!r}:2.0"
+    steps = int(round(SECONDS / INTERVAL))
+    cpus = []
+    for _ in range(repeats):
+        done = subprocess.run([str(exe), unzipped, md.coSimulation.modelIdentifier, md.guid, str(steps),
+                               repr(INTERVAL), *params, *outputs, pulse], capture_output=True, text=True, timeout=600)
+        if done.returncode != 0:
+            raise RuntimeError(f"{fmu.name} in the native host: {done.stderr[-800:]}")
+        cpus.append(float(done.stdout.split()[0]) * 1e-6 / INTERVAL)
+    return float(np.median(cpus)), len(outputs)
 
 
 def opensees_roof(samples, dt, damped=False, Kh=None, e=None):
@@ -146,8 +185,10 @@ def measure(runs):
         exact = ours_roof(samples, damped, e)
         core_cpu, _ = _median_cpu(lambda: ours_roof(samples, damped, e), runs)
         fmu_cpu, fmu = _median_cpu(lambda: ours_fmu(samples, damped, e), runs)
+        native, outputs = native_cpu(damped, e, runs)
         rows = [("ours, core", 0.0, core_cpu / SECONDS), ("ours, FMU in fmpy", float(np.abs(fmu - exact).max()),
-                                                        fmu_cpu / SECONDS)]
+                                                        fmu_cpu / SECONDS),
+                (f"ours, FMU in a native C host reading its {outputs} outputs every step", 0.0, native)]
         for Kh, steps in (CONTACT if damped else ((None, STEPS),)):
             for dt in steps:
                 cpus, roof = [], None
@@ -217,29 +258,31 @@ def page(out, runs):
             shown = "exact" if err == 0.0 else ("diverged" if not np.isfinite(err) else f"{err:.2g}")
             if label == "ours, FMU in fmpy":
                 shown = "bit for bit with the core" if err == 0.0 else f"{err:.2g} m from the core"
+            elif label.startswith("ours, FMU in a native"):
+                shown = "the FMU's"
             lines.append(f"| {label} | {shown} | {c:.3g} |")
         return "\n".join(lines)
 
     def cheaper(key):
         rows = out[key]["rows"]
-        core, fmu, peers = rows[0][2], rows[1][2], [r for r in rows[2:] if np.isfinite(r[1])]
-        text = ("our core is cheaper than OpenSees at every step" if all(core < c for _, _, c in peers) else
-                "OpenSees is cheaper than our core at " + ", ".join(label for label, _, c in peers if c <= core))
-        beaten = [(label, err) for label, err, c in peers if c < fmu]
-        if not beaten:
-            return text + "; so is our FMU as fmpy runs it, at every error level OpenSees reaches"
-        return (text + f"; our FMU as fmpy runs it pays fmpy's own cost per step ({fmu - core:.3g} s per simulated "
-                "second here, Python host code), so OpenSees at " + ", ".join(label.replace("OpenSees ", "")
-                                                                            for label, _ in beaten)
-                + f" is cheaper than that (at errors of {min(err for _, err in beaten):.2g} and above)")
+        peers = [r for r in rows[3:] if np.isfinite(r[1])]
+        parts = []
+        for label, _, cost in rows[:3]:
+            beaten = [(peer, err) for peer, err, c in peers if c <= cost]
+            parts.append(f"{label}: cheaper than OpenSees at every step" if not beaten else
+                         f"{label}: OpenSees at " + ", ".join(peer.replace("OpenSees ", "") for peer, _ in beaten)
+                         + f" costs less (at errors of {min(err for _, err in beaten):.2g} and above)")
+        return "; ".join(parts) + (". fmpy's `simulate_fmu` adds its own Python per step (the difference between its "
+                                   "row and the core's)")
 
     po = out["pushover"]
     return f"""# Deteriorating storeys: exact against OpenSees's IMKBilin
 
 Generated by `python -m pidamper.benchmarks.imk_peer` on {describe("fmpy", "openseespy")}, the physics
 {BUILD}; CPU figures are process CPU per simulated second, median of {runs} runs (OpenSees below dt = 1e-4 s: one run): our core alone, our FMU
-as fmpy's `simulate_fmu` runs it (host included, the FMU unpacked once per process), OpenSeesPy's model
-definition and `analyze` loop.
+as fmpy's `simulate_fmu` runs it (host included, the FMU unpacked once per process), our FMU in the native C
+host of `pidamper.benchmarks.native` (it sets the start values, the input, and reads every output at every
+step, one call each; the steps are timed), OpenSeesPy's model definition and `analyze` loop.
 
 The 3-storey building of [Yielding buildings](README.md) (floors 1e5 kg, storeys 8e7 N/m of 3 m,
 P-Delta, modal damping 5 %) with deteriorating storeys (`storey_law = 1`, OpenSees's `IMKBilin`
