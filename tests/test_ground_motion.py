@@ -448,3 +448,26 @@ def test_record_basics():
         r.accel[0] = 5.0  # read-only
     with pytest.raises(ValueError, match="dt"):
         gm.Record("r", 0.0, [1.0], "src")
+
+
+def test_sa_avg_is_the_geometric_mean_of_sa_from_0_2_to_3_t1():
+    """Sa_avg (Eads et al. 2015) of a FEMA P-695 record: its definition with the project's Sa at
+    each of the ten periods 0.2 T1 .. 3 T1, and with an independent spectrum (scipy.signal.lsim,
+    linear interpolation of the input: exact for the piecewise-linear record, peaks at the
+    samples), to 1e-9; and it scales with the record (an intensity measure)."""
+    record = gm.fema_p695("fema-p695-far-field", components="a", records=[2])[0]
+    t1, zeta = 1.3, 0.05
+    periods = np.linspace(0.2 * t1, 3.0 * t1, 10)
+    mine = spectra.sa_avg(record, t1, zeta)
+    by_sa = math.exp(sum(math.log(spectra.sa(record, float(T), zeta)) for T in periods) / 10)
+    t = np.arange(record.npts) * record.dt
+    logs = []
+    for T in periods:
+        w = 2 * math.pi / T
+        system = ([[0.0, 1.0], [-w * w, -2 * zeta * w]], [[0.0], [-1.0]], [[1.0, 0.0]], [[0.0]])
+        _, u, _ = sps.lsim(system, record.accel, t, interp=True)
+        logs.append(math.log(w * w * np.max(np.abs(u))))
+    independent = math.exp(sum(logs) / len(logs))
+    assert mine == pytest.approx(by_sa, rel=1e-12)
+    assert mine == pytest.approx(independent, rel=1e-9)
+    assert spectra.sa_avg(record.scaled(2.5), t1, zeta) == pytest.approx(2.5 * mine, rel=1e-12)

@@ -110,7 +110,11 @@ CASES = [
     (("levels = [0.1, 0.3, 0.7]", "levels = [0.7, 0.3]"), "intensity.levels", "ascending"),
     (("A = 0.003", "A = 1.5"), "damage_states.A", "in (0, 1)"),
     (("storeys = 2", "storeys = 11"), "building.storeys", "an integer in 0..10"),
-    (('measure = "PGV"', 'measure = "SA"'), "intensity.measure", 'one of "Sa", "PGA", "PGV"'),
+    (('measure = "PGV"', 'measure = "SA"'), "intensity.measure", 'one of "Sa", "Sa_avg", "PGA", "PGV"'),
+    (('measure = "PGV"\nlevels = [0.1, 0.3, 0.7]', 'measure = "Sa_avg"\nlevels = [0.1, 0.3, 0.7]\n[p695]'),
+     "intensity.measure", "FEMA P-695's margin"),
+    (("storey_k = [8.0e7, 6.0e7]", "storey_k = [8.0e7, 6.0e7]\nstorey_law = 1\nstorey_dp_pos = [0.02]"),
+     "building.storey_dp_pos", "a list of 2"),
     (("k0 = 1.0e-3", "k0 = -1.0"), "hazard.k0", "a number > 0"),
     (("[run]", LOSSES + "repair_days = [180.0, 30.0]\n[run]"), "losses.repair_days", "ascending"),
     # a building's per-storey fields: one value per storey
@@ -202,8 +206,22 @@ def test_what_needs_a_building_is_refused_on_the_pendulum_primary(tmp_path, caps
 
 def test_what_needs_the_fmu_is_refused_with_the_core_engine(tmp_path, capsys, no_runs):
     path = write(tmp_path)
-    path.write_text(path.read_text().replace("[run]", '[p695]\nsdc = "dmax"\n[run]'))
+    text = path.read_text().replace('measure = "PGV"', 'measure = "Sa"')  # (P-695's margin is in Sa)
+    path.write_text(text.replace("[run]", '[p695]\nsdc = "dmax"\n[run]'))
     assert main(["assess", str(path), "--out", str(tmp_path / "out"), "--engine", "core"]) == 2
     said = capsys.readouterr().err
     assert "--engine = 'core' is not allowed: [p695] needs a building (storeys >= 1) run through its FMU" in said
     assert not (tmp_path / "out").exists()
+
+
+def test_a_study_in_sa_avg_scales_its_records_by_sa_avg(tmp_path):
+    """measure = "Sa_avg": a record's intensity is its Sa_avg at the building's T1 [g] (the geometric
+    mean of Sa over 0.2 T1 .. 3 T1), its label says so."""
+    from pidamper.forcing import spectra
+    from pidamper.forcing.ground_motion import kanai_tajimi
+
+    path = write(tmp_path, ('measure = "PGV"', 'measure = "Sa_avg"'))
+    study = assess.load(path)
+    record = kanai_tajimi(4.0, 0.01, 15.6, 0.6, pga=2.0, seed=1)
+    assert study.intensity(record) == spectra.sa_avg(record, study.period, study.zeta) / assess.G
+    assert study.label.startswith("Sa_avg(0.2 - 3 T1") and study.unit == "g"

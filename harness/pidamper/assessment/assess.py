@@ -20,9 +20,10 @@ names the table and field, its value and what is allowed, exit status 2):
                      damper; not storeys, storey_height); the first one is the reference of the risk ratio
     [suite]          folder = "records/" (every .AT2 and .csv) or generator = "clough-penzien" ... (see
                      ground_motion.suite)
-    [intensity]      measure = "Sa" (Sa(T1, 5 %), T1 the bare building's first period), "PGA" or
-                     "PGV"; levels = [...] (required; ascending, none twice) in g (Sa, PGA) or m/s
-                     (PGV); zeta = 0.05
+    [intensity]      measure = "Sa" (Sa(T1, 5 %), T1 the bare building's first period), "Sa_avg"
+                     (the geometric mean of Sa over 0.2 T1 .. 3 T1, Eads et al. 2015), "PGA" or
+                     "PGV"; levels = [...] (required; ascending, none twice) in g (Sa, Sa_avg, PGA)
+                     or m/s (PGV); zeta = 0.05
     [damage_states]  NAME = peak inter-storey drift ratio limit in (0, 1) (default DAMAGE_STATES)
     [hazard]         one of: k0, k (power law k0 IM^-k, IM in the levels' units), points = [[IM, rate],
                      [IM, rate]] with their source (the power law through them), or table =
@@ -147,13 +148,16 @@ class Study:
 
     @property
     def label(self):
-        return {"Sa": f"Sa(T1 = {self.period:.3g} s, {100 * self.zeta:g} %) [g]", "PGA": "PGA [g]",
+        return {"Sa": f"Sa(T1 = {self.period:.3g} s, {100 * self.zeta:g} %) [g]",
+                "Sa_avg": f"Sa_avg(0.2 - 3 T1, T1 = {self.period:.3g} s, {100 * self.zeta:g} %) [g]", "PGA": "PGA [g]",
                 "PGV": "PGV [m/s]"}[self.measure]
 
     def intensity(self, record):
         """The record's intensity in the levels' unit."""
         if self.measure == "Sa":
             return spectra.sa(record, self.period, self.zeta) / G
+        if self.measure == "Sa_avg":
+            return spectra.sa_avg(record, self.period, self.zeta) / G
         if self.measure == "PGA":
             return spectra.pga(record) / G
         return spectra.pgv(record)

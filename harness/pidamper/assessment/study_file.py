@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 
 from pidamper_fmu.particle_tables import PENDULUM_ONLY, tables
+from pidamper_physics.imk_storeys import IMK_DEFAULTS
 from pidamper_physics.params import LEVELS, MAX_STOREYS
 
 from ..errors import FieldError
@@ -72,7 +73,7 @@ TEXT = Rule(lambda v: isinstance(v, str), "text (a quoted string)")
 BOOL = Rule(lambda v: isinstance(v, bool), "true or false")
 TABLE = Rule(lambda v: isinstance(v, dict), "a table { ... }")
 
-MEASURES = ("Sa", "PGA", "PGV")
+MEASURES = ("Sa", "Sa_avg", "PGA", "PGV")
 #: the tables of a study file, those it must have, and each one's fields (None: any name)
 SECTIONS = ("study", "building", "configurations", "suite", "intensity", "damage_states", "hazard", "losses", "p695",
             "ida", "run")
@@ -157,7 +158,8 @@ DRIFT_LIMIT = number(0.0, 1.0, "a peak inter-storey drift-ratio limit in (0, 1) 
 #: a building's per-storey fields (a number for every storey or a list, storey 1 first) and the
 #: FMU variables they fill (scene.fmu_values; storey_height: the study's name of storey[k].h)
 PER_STOREY = {"floor_m": "floor[{}].m", "storey_k": "storey[{}].k", "storey_Fy": "storey[{}].Fy",
-              "storey_b": "storey[{}].b", "storey_height": "storey[{}].h"}
+              "storey_b": "storey[{}].b", "storey_height": "storey[{}].h",
+              **{f"storey_{name}": f"storey[{{}}].{name}" for name in IMK_DEFAULTS}}
 #: FMU parameters a study does not take, and why
 NOT_IN_A_STUDY = {
     **{name: "every run starts from rest, driven by its record alone" for name in
@@ -247,6 +249,10 @@ def check(data, source):
     for table in BUILDING_ONLY:
         if data.get(table) and not storeys:
             refuse(table, data[table], BUILDING_ONLY[table])
+    measure = (data.get("intensity") or {}).get("measure", "Sa")
+    if "p695" in data and measure != "Sa":
+        refuse("intensity.measure", measure, "\"Sa\" with [p695]: FEMA P-695's margin compares S_CT with S_MT, "
+               "both Sa(T)")
 
 
 def _check_model(refuse, table, params, fields, storeys):

@@ -28,7 +28,11 @@ import math
 import numpy as np
 
 __all__ = ["pga", "pgv", "ground_velocity", "nigam_jennings_matrices", "sdof_response", "response_spectrum",
-           "sa"]
+           "sa", "sa_avg", "SA_AVG_RANGE"]
+
+#: Sa_avg's periods: SA_AVG_RANGE[2] of them equally spaced over [SA_AVG_RANGE[0], SA_AVG_RANGE[1]]
+#: times T1 (Eads, Miranda and Lignos 2015: 0.2 T1 to 3 T1, ten periods)
+SA_AVG_RANGE = (0.2, 3.0, 10)
 
 
 def _accel_dt(record_or_accel, dt=None):
@@ -212,3 +216,13 @@ def sa(record, T, zeta=0.05):
     """Sa(T, zeta) [m/s2] of a Record: the pseudo-spectral acceleration (2 pi / T)^2 Sd, the
     intensity measure Sa(T1, 5 %) of a performance-based assessment. Scalar T -> float."""
     return response_spectrum(record.accel, record.dt, T, zeta)["Sa"]
+
+
+def sa_avg(record, T1, zeta=0.05, span=SA_AVG_RANGE):
+    """Sa_avg(T1, zeta) [m/s2] of a Record: the geometric mean of Sa over `span` = (lo, hi, n): n
+    periods equally spaced from lo T1 to hi T1 (Eads, Miranda & Lignos 2015, "Average spectral
+    acceleration as an intensity measure for collapse risk assessment", Earthquake Engineering &
+    Structural Dynamics 44(12): 0.2 T1 to 3 T1, ten periods), all in one pass of the spectrum."""
+    lo, hi, n = span
+    values = response_spectrum(record.accel, record.dt, np.linspace(lo * T1, hi * T1, int(n)), zeta)["Sa"]
+    return float(np.exp(np.mean(np.log(values))))
