@@ -1,6 +1,9 @@
 """Study files of `pidamper assess` (assessment.study_file): every field checked before anything runs.
 Each bad field is refused naming its table and field with the rule it breaks, from the Python API
 (StudyError) and from the command line (exit status 2, no traceback, no output folder, no run)."""
+import math
+
+import numpy as np
 import pytest
 
 from pidamper.assessment import assess
@@ -225,3 +228,31 @@ def test_a_study_in_sa_avg_scales_its_records_by_sa_avg(tmp_path):
     record = kanai_tajimi(4.0, 0.01, 15.6, 0.6, pga=2.0, seed=1)
     assert study.intensity(record) == spectra.sa_avg(record, study.period, study.zeta) / assess.G
     assert study.label.startswith("Sa_avg(0.2 - 3 T1") and study.unit == "g"
+
+
+def test_the_page_compares_collapse_dispersion_under_sa_and_sa_avg(tmp_path):
+    """intensity_dispersion: the same capacities measured by Sa(T1) and by Sa_avg (each record's own
+    ratio from its spectrum at the ten periods 0.2 T1 .. 3 T1, recomputed here), the dispersion of
+    each (records that collapsed only), and the runs scaled by more than 10 counted."""
+    from pidamper.forcing import spectra
+
+    study = assess.load(write(tmp_path, ('measure = "PGV"', 'measure = "Sa"')))
+    caps = {0: 0.8, 1: 1.7}
+    traces = [{"record_index": i, "configuration": conf, "im_record": 0.1 * (i + 1), "capacity": caps[i],
+               "runs": [[0.5, False, None], [caps[i], True, None], [2.5 * (i + 1), True, None]]}
+              for conf in study.configurations for i in (0, 1)]
+    rows = assess.intensity_dispersion(study, traces)
+    ratio = []
+    for record in study.records[:2]:
+        sa = spectra.response_spectrum(record.accel, record.dt, np.linspace(0.2, 3.0, 10) * study.period,
+                                       study.zeta)["Sa"]
+        ratio.append(math.exp(np.mean(np.log(sa))) / spectra.sa(record, study.period, study.zeta))
+    for conf, row in rows.items():
+        ln_sa = [math.log(caps[i] / (0.1 * (i + 1)) * spectra.sa(study.records[i], study.period, study.zeta) / assess.G)
+                 for i in (0, 1)]
+        ln_avg = [x + math.log(r) for x, r in zip(ln_sa, ratio)]
+        assert row["beta_sa"] == pytest.approx(np.std(ln_sa, ddof=1), rel=1e-9)
+        assert row["beta_sa_avg"] == pytest.approx(np.std(ln_avg, ddof=1), rel=1e-9)
+        # scale factors: 0.5/0.1, 8, 25; 0.5/0.2, 8.5, 25
+        assert (row["beyond"], row["runs"], row["largest"]) == (2, 6, pytest.approx(25.0))
+    assert "Sa_avg" in "\n".join(assess.dispersion_lines(study, traces))
