@@ -66,3 +66,18 @@ def test_the_margin_uses_fema_p695s_tables():
     assert round(m.acmr20, 2) == 1.66 and round(m.acmr10, 2) == 2.16
     assert m.cmr == 2.0 and m.acmr == pytest.approx(2.0 * m.ssf) and m.passes
     assert round(p695.margin(3.0, 0.5, 2).ssf, 2) == 1.13
+
+
+def test_s_ct_is_where_half_the_records_have_collapsed():
+    """FEMA P-695 6.2.2's S_CT on capacities known by construction: the ceil(N/2)-th smallest (at
+    that intensity half of the N records, and not one fewer, have collapsed); a record that never
+    collapsed counts above every intensity; fewer than half collapsing gives none."""
+    from pidamper.assessment.p695 import half_collapse
+
+    capacities = np.arange(1.0, 45.0)  # 44 records collapsing at 1, 2, ..., 44
+    rng = np.random.default_rng(0)
+    assert half_collapse(rng.permutation(capacities)) == 22.0
+    assert np.sum(capacities <= 22.0) == 22 and np.sum(capacities < 22.0) == 21
+    assert half_collapse(np.array([3.0, 1.0, 2.0, 5.0, 4.0])) == 3.0
+    assert half_collapse(np.array([np.nan, 1.0, 2.0, np.nan])) == 2.0
+    assert np.isnan(half_collapse(np.array([np.nan, 1.0, np.nan, np.nan])))

@@ -732,15 +732,25 @@ def p695_lines(study, rows, out, collapse=None):
              "margin's SMT and SSF are read at T1 here).", "",
              "![pushover](pushover.png)", "",
              "| configuration | collapses (of runs) | S_CT [g] | S_MT [g] | CMR | SSF | ACMR | beta_TOT | ACMR10 | ACMR20 | "
-             "ACMR >= ACMR20 |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+             "ACMR >= ACMR20 (if it were a group) |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     fits = {}
     from .loss_study import Collapse
     collapse = collapse or {c: Collapse(levels, collapsed[c], study.beta_m) for c in confs}
-    median = lambda conf, drawn: collapse[conf].fit(drawn).theta  # noqa: E731
+    def median(conf, drawn):
+        """S_CT of the records drawn: where half of them collapsed (IDA), else the stripes' lognormal fit."""
+        if collapse[conf].capacities is not None:
+            value = p695.half_collapse(collapse[conf].capacities[drawn])
+            if not np.isfinite(value):
+                raise fragility.FragilityError("half", "fewer than half of the records collapsed")
+            return value
+        return collapse[conf].fit(drawn).theta
+
     if any(collapse[c].capacities is not None for c in confs) and "set" in study.suite:
-        lines[-2:-2] = ["S_CT: the median of the records' IDA collapse intensities in the intensity of the set "
-                        "scaled collectively (FEMA P-695 6.2.2: a record scaled with the set collapses at its own "
-                        "capacity x median(Sa) / its Sa), the lognormal fit with censoring.", ""]
+        lines[-2:-2] = ["S_CT: the intensity at which half of the records, scaled with the set (FEMA P-695 6.2.2: a "
+                        "record scaled with the set collapses at its own capacity x median(Sa) / its Sa), have "
+                        "collapsed: the ceil(N/2)-th smallest of their IDA collapse intensities (not a fit). The last "
+                        "column is FEMA P-695's criterion for a performance group: one archetype is not a group, so "
+                        "it says only whether this one would meet it.", ""]
     for c in confs:
         count = f"{int(collapsed[c].sum())} of {collapsed[c].size} stripe runs"
         if collapse[c].capacities is not None:

