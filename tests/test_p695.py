@@ -99,3 +99,15 @@ def test_the_margin_is_read_at_the_code_period_with_the_set_rescaled_there(tmp_p
     ns = SimpleNamespace(configurations={"bare": {}}, levels=[1.0, 2.0], beta_m=0.0)
     levels = assess.ida_collapse(ns, traces, collective=True, at=at)["bare"].capacities
     assert list(levels) == pytest.approx([c / im * 1.0 for im, c in zip(ims, own)], rel=1e-15)  # median Sa(T) = 1
+
+
+def test_the_damper_configuration_has_its_own_pushover():
+    """A configuration with the damper is pushed with its particle (mu times the building's mass)
+    carried on its floor: the same curve as the bare building whose roof weighs that much more
+    (loads and P-Delta), and a different mu_T from the bare one."""
+    damped = p695.pushover(params(mu=0.05, **{"storey[1].b": 0.0}))
+    heavier = p695.pushover(params(floor_m=[1.0e5, 1.0e5, 1.0e5 + 0.05 * 3.0e5], **{"storey[1].b": 0.0}))
+    bare = p695.pushover(params(**{"storey[1].b": 0.0}))
+    assert damped.mu_t == pytest.approx(heavier.mu_t, rel=1e-12) and damped.v_max == pytest.approx(heavier.v_max,
+                                                                                                    rel=1e-12)
+    assert damped.weight == pytest.approx(9.81 * 3.15e5, rel=1e-12) and damped.v_max != bare.v_max

@@ -730,8 +730,14 @@ def p695_lines(study, rows, out, collapse=None):
 
     spec = study.p695
     period = study.period if study.code_period is None else study.code_period
+
+    def own_pushover(params):
+        model = Params.from_variables(start_values({**study.building, **params}))
+        return p695.pushover(model) if model.imk is None else deteriorating_pushover.of_params(model)
+
     bare = Params.from_variables({**start_values(study.building), "mu": 0.0})
-    push = p695.pushover(bare) if bare.imk is None else deteriorating_pushover.of_params(bare)
+    push = own_pushover({"mu": 0.0})
+    pushovers = {c: own_pushover(params) for c, params in study.configurations.items()}
     ends = ("the storeys deteriorate (IMKBilin): exact to 20 % strength loss" if bare.imk is not None else
             "the storeys do not deteriorate, so a rising curve ends at the collapse drift")
     plot_pushover(push, Path(out) / "pushover.png")
@@ -752,8 +758,10 @@ def p695_lines(study, rows, out, collapse=None):
                                           "give [p695] Ct and x; the margin's SMT and SSF are read at T1 here)") + ".",
              "",
              "![pushover](pushover.png)", "",
-             "| configuration | collapses (of runs) | S_CT [g] | S_MT [g] | CMR | SSF | ACMR | beta_TOT | ACMR10 | ACMR20 | "
-             "ACMR >= ACMR20 (if it were a group) |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+             "Each configuration's margin takes mu_T from its own pushover (the damper's particle carried on its "
+             "floor: its weight in P-Delta, its mass in the first mode's loads).", "",
+             "| configuration | collapses (of runs) | mu_T | S_CT [g] | S_MT [g] | CMR | SSF | ACMR | beta_TOT | ACMR10 | "
+             "ACMR20 | ACMR >= ACMR20 (if it were a group) |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     fits = {}
     from .loss_study import Collapse
     collapse = collapse or {c: Collapse(levels, collapsed[c], study.beta_m) for c in confs}
@@ -779,10 +787,12 @@ def p695_lines(study, rows, out, collapse=None):
         try:
             fits[c] = median(c, np.arange(len(study.records)))
         except fragility.FragilityError as err:
-            lines.append(f"| {c} | {count} | no fit: {NO_FIT.get(err.kind, err.kind)} | | | | | | | | |")
+            lines.append(f"| {c} | {count} | {pushovers[c].mu_t:.2f} | no fit: {NO_FIT.get(err.kind, err.kind)} | | | "
+                         "| | | | | |")
             continue
-        m = p695.margin(fits[c], period, push.mu_t, spec["sdc"], spec["ratings"], spec["record_set"])
-        lines.append(f"| {c} | {count} | {m.s_ct:.3g} | {m.s_mt:.3g} | {m.cmr:.3g} | {m.ssf:.3g} | {m.acmr:.3g} | "
+        m = p695.margin(fits[c], period, pushovers[c].mu_t, spec["sdc"], spec["ratings"], spec["record_set"])
+        lines.append(f"| {c} | {count} | {pushovers[c].mu_t:.2f} | {m.s_ct:.3g} | {m.s_mt:.3g} | {m.cmr:.3g} | "
+                     f"{m.ssf:.3g} | {m.acmr:.3g} | "
                      f"{m.beta_total:.3g} | {m.acmr10:.3g} | {m.acmr20:.3g} | {'yes' if m.passes else 'no'} |")
     if len(fits) == len(confs) and len(confs) > 1:
         def medians(rows_drawn):

@@ -19,7 +19,7 @@ import numpy as np
 from pidamper_physics.imk import IMKStorey
 from pidamper_physics.refusals import ParameterError
 
-from .p695 import Pushover, first_mode, period_based_ductility
+from .p695 import Pushover, carried_masses, first_mode, period_based_ductility
 
 
 @dataclass
@@ -38,9 +38,10 @@ def of_params(params):
     """The pushover of pidamper_physics.Params of a building of deteriorating storeys (storey_law =
     1) as p695.Pushover, the assessment's."""
     n = params.storeys
-    po = pushover(params.floor_m[:n], params.imk, params.storey_h[:n], bool(params.p_delta), params.g)
+    masses = carried_masses(params)
+    po = pushover(list(masses), params.imk, params.storey_h[:n], bool(params.p_delta), params.g)
     return Pushover(po.roof, po.base_shear, po.v_max, po.delta_u, po.delta_y_eff, po.mu_t,
-                    params.g * float(np.sum(params.floor_m[:n])), po.limit)
+                    params.g * float(np.sum(masses)), po.limit)
 
 
 def pushover(masses, laws, heights, p_delta=True, g=9.81, drop=0.2):

@@ -49,11 +49,22 @@ def first_mode(m, k_eff):
     return phi / phi[-1], math.sqrt(lam[0])
 
 
+def carried_masses(params):
+    """The floors' masses [kg] a static pushover loads and P-Delta weighs: the floors', the damper's
+    particle (m = mu times the building's mass, hanging still) on its floor."""
+    n = params.storeys
+    m = np.asarray(params.floor_m[:n], float).copy()
+    if params.m > 0.0:
+        m[params.floor] += params.m
+    return m
+
+
 def pushover(params, points=400):
     """Pushover (module doc) of pidamper_physics.Params of a building of bilinear storeys (of
-    deteriorating ones: deteriorating_pushover.of_params)."""
+    deteriorating ones: deteriorating_pushover.of_params), the damper's particle carried on its
+    floor (carried_masses)."""
     n = params.storeys
-    m, k = np.asarray(params.floor_m[:n], float), np.asarray(params.storey_k[:n], float)
+    m, k = carried_masses(params), np.asarray(params.storey_k[:n], float)
     h, fy, b = (np.asarray(getattr(params, name)[:n], float) for name in ("storey_h", "storey_Fy", "storey_b"))
     g = params.g
     p_over_h = (g * np.cumsum(m[::-1])[::-1] / h) if params.p_delta else np.zeros(n)
