@@ -103,6 +103,7 @@ CASES = [
     (("[run]", "[p695]\nratings = [1, 2, 3]\n[run]"), "p695.ratings", "three of A, B, C, D"),
     (("[run]", "[p695]\nCt = 0.028\nx = 0.8\n[run]"), "p695", "Ct and x together, with [ida]"),
     (("[run]", "[p695]\nCt = -0.028\n[run]"), "p695.Ct", "(> 0)"),
+    (("[run]", "[p695]\nreasons = [\"good\"]\n[run]"), "p695.reasons", "three texts"),
     (("[run]", LOSSES + "realizations = true\n[run]"), "losses.realizations", "an integer >= 1"),
     # values out of their range
     (("bootstrap = 50", "bootstrap = 50\nstep = 0.0"), "run.step", "a number > 0"),

@@ -31,8 +31,9 @@ names the table and field, its value and what is allowed, exit status 2):
     [losses]         components (a FEMA P-58 component CSV), floor_area [m2], replacement_cost [USD
                      2011], replacement_days, realizations (default 50), repair_days ([30, 180]):
                      repair cost and time with pelicun (losses, loss_study)
-    [p695]           sdc ("dmax"), ratings (["B", "B", "C"]), record_set ("farfield"): FEMA P-695's
-                     collapse margin with the pushover's mu_T (p695)
+    [p695]           sdc ("dmax"), ratings (["B", "B", "C"]) and their reasons (three texts), record_set
+                     ("farfield"), Ct and x (the code period): FEMA P-695's collapse margin with each
+                     configuration's pushover's mu_T (p695)
     [ida]            first, step [levels' unit], increment, tolerance (0.05), max_runs (10), stripes
                      ("interpolate" or "run"): each record's IDA to collapse by hunt and fill; its
                      capacities then give the collapse fragility of [p695] (in the intensity of the set
@@ -749,7 +750,9 @@ def p695_lines(study, rows, out, collapse=None):
              f"{push.v_max / 1e3:.1f} kN ({push.v_max / push.weight:.3f} W), ultimate roof displacement "
              f"{push.delta_u:.3f} m ({push.limit}; {ends}), effective yield {push.delta_y_eff:.4f} m: "
              f"mu_T = {push.mu_t:.2f}. SDC "
-             f"{spec['sdc']}, ratings {'/'.join(spec['ratings'])} (design requirements, test data, model), record set "
+             f"{spec['sdc']}, ratings {'/'.join(spec['ratings'])} (design requirements, test data, model: "
+             + ("; ".join(f"{r} because {why}" for r, why in zip(spec["ratings"], spec["reasons"])) if "reasons" in spec
+                else "no reasons given, so FEMA P-695 would take the lower ones") + "), record set "
              f"{spec['record_set']}; " + (f"T = Cu Ta = {period:.3f} s (Ct = {spec['Ct']:g}, x = {spec['x']:g}, "
                                           f"ASCE 7 12.8.2.1; the model's T1 = {study.period:.3f} s): S_CT, S_MT and "
                                           "the SSF are read at T, the records' Sa at T scaling the set"

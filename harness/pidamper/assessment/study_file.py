@@ -131,6 +131,10 @@ FIELDS = {
     "p695": {"sdc": one_of(*P695_FIELDS["sdc"]), "record_set": one_of(*P695_FIELDS["record_set"]),
              **{key: number(0.0, text=f"{key} of ASCE 7 Table 12.8-2 (> 0): T = Cu Ct h^x, h in ft", lo_open=True)
                 for key in ("Ct", "x")},
+             "reasons": Rule(lambda v: isinstance(v, list) and len(v) == 3 and all(isinstance(r, str) and r.strip()
+                                                                                   for r in v),
+                             "three texts: why the design requirements, the test data and the model earn their "
+                             "ratings (FEMA P-695 3.4, 3.5, 5.7)"),
              "ratings": Rule(lambda v: isinstance(v, list) and len(v) == 3 and all(r in ("A", "B", "C", "D")
                                                                                     for r in v),
                              P695_FIELDS["ratings"] + ' (e.g. ["B", "B", "C"])')},
