@@ -151,15 +151,10 @@ class IMKHysteresis(Hysteresis):
         return all(u.failure == 0 and u.u == 0.0 and u.f == 0.0 and u.k == u.ke and u.e_acc == 0.0
                    for u in self.units)
 
-    def stiffness(self):
-        n, g = self.n, self.law.geometric
-        kt = [self.legs[i][2] - g[i] for i in range(n)] + [0.0]
-        K = [[0.0] * n for _ in range(n)]
-        for i in range(n):
-            K[i][i] = kt[i] + kt[i + 1]
-            if i + 1 < n:
-                K[i][i + 1] = K[i + 1][i] = -kt[i + 1]
-        return K
+    def tangents(self):
+        """Per storey the slope of its piece less P/h [N/m]."""
+        g = self.law.geometric
+        return [self.legs[i][2] - g[i] for i in range(self.n)]
 
     def held(self):
         n, units, legs = self.n, self.units, self.legs

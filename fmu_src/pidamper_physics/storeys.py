@@ -178,10 +178,15 @@ class Hysteresis:
         """No storey has yielded: the storeys are the elastic building's."""
         return not any(self.regime) and not any(self.dp)
 
+    def tangents(self):
+        """Per storey its tangent stiffness [N/m] in the current regime, P-Delta included."""
+        law = self.law
+        return [law.tangent(i, s) for i, s in enumerate(self.regime)]
+
     def stiffness(self):
         """K_t [N/m] (n x n, nested lists) of the current regime, P-Delta included."""
-        n, law = self.n, self.law
-        kt = [law.tangent(i, s) for i, s in enumerate(self.regime)] + [0.0]
+        n = self.n
+        kt = self.tangents() + [0.0]
         K = [[0.0] * n for _ in range(n)]
         for i in range(n):
             K[i][i] = kt[i] + kt[i + 1]

@@ -14,7 +14,6 @@ storey is moved to it, at a turn to where it stands; the law does the rest (reve
 excursions, deterioration) in its own order.  It imports nothing of pidamper_physics: the law is
 the caller's argument, and nothing of the building's event loop (imk_storeys, yielding) is used."""
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .yielding_reference import Reference
 
@@ -86,21 +85,12 @@ class IMKReference(Reference):
         out[-1] = 0.0  # (the hysteretic energy is not integrated here)
         return out
 
-    def _interval(self, t0, t1, z, ag, F):
-        t = t0
-        while t < t1 and self.collapse is None:
-            moving = self._align(t, z, ag, F)
-            evs = self._event_functions(moving)
-            sol = solve_ivp(self.rhs, (t, t1), z, method="DOP853", rtol=1e-12, atol=1e-15, events=evs,
-                            args=(ag, F), max_step=self.max_step)
-            hit = [(te[0], i) for i, te in enumerate(sol.t_events) if len(te)]
-            if not hit:
-                return sol.y[:, -1]
-            te, i = min(hit)
-            z = sol.y_events[i][0].copy()
-            t = te
-            self._handle(evs[i].tag, t, z)
-        return z
+    @property
+    def stopped(self):
+        return self.collapse is not None
+
+    def _events_at(self, t, z, ag, F):
+        return self._event_functions(self._align(t, z, ag, F))
 
     def _align(self, t, z, ag, F):
         """Each storey's direction of motion at t (its drift velocity's sign, else its drift
@@ -143,7 +133,7 @@ class IMKReference(Reference):
         kind, k, d = tag
         n = self.n
         if kind == "impact":
-            self._impact(k, d, t, z)
+            super()._handle(tag, t, z)  # (Newton's law; then _decide)
             return
         if kind == "drift":
             self.collapse = (t, k, kind)
@@ -177,13 +167,9 @@ class IMKReference(Reference):
         self.held[k] = False
         self.events.append((t, kind, k))
 
-    def _impact(self, k, sg, t, z):
-        n, dm = self.n, self.damper
-        mp, mj, e = dm["m"], self.m[k], dm["e"]
-        w = z[2 * n + 1] - z[n + k]
-        z[n + k] += mp * (1 + e) * w / (mp + mj)
-        z[2 * n + 1] -= mj * (1 + e) * w / (mp + mj)
-        self.events.append((t, "impact", sg))
+    def _decide(self, z, t):
+        """After an impact: a storey whose drift velocity now opposes its leg turns."""
+        n = self.n
         rate = self.D @ z[n:2 * n]
         for i in range(n):
             if self.dirs[i] * rate[i] < 0.0:

@@ -94,10 +94,13 @@ class Reference:
             out.append(z.copy())
         return np.array(out)
 
+    #: whether the run has ended (a subclass's collapse): the intervals left are not integrated
+    stopped = False
+
     def _interval(self, t0, t1, z, ag, F):
         t = t0
-        while t < t1:
-            evs = self._event_functions(ag, F)
+        while t < t1 and not self.stopped:
+            evs = self._events_at(t, z, ag, F)
             sol = solve_ivp(self.rhs, (t, t1), z, method="DOP853", rtol=1e-12, atol=1e-15, events=evs,
                             args=(ag, F), max_step=self.max_step)
             hit = [(te[0], i) for i, te in enumerate(sol.t_events) if len(te)]
@@ -106,8 +109,12 @@ class Reference:
             te, i = min(hit)
             z = sol.y_events[i][0].copy()
             t = te
-            self._handle(i, t, z)
+            self._handle(evs[i].tag, t, z)
         return z
+
+    def _events_at(self, t, z, ag, F):
+        """The event functions of the interval starting at (t, z)."""
+        return self._event_functions(ag, F)
 
     def _event_functions(self, ag, F):
         n = self.n
@@ -135,8 +142,8 @@ class Reference:
         f.tag = tag
         return f
 
-    def _handle(self, i, t, z):
-        kind, k, sg = self._event_functions(0, 0)[i].tag
+    def _handle(self, tag, t, z):
+        kind, k, sg = tag
         n = self.n
         if kind == "impact":  # Newton's law between the particle and floor j
             dm = self.damper
@@ -145,7 +152,7 @@ class Reference:
             z[n + k] += mp * (1 + e) * w / (mp + mj)
             z[2 * n + 1] -= mj * (1 + e) * w / (mp + mj)
             self.events.append((t, kind, sg))
-            self._decide(z)
+            self._decide(z, t)
             return
         drift = (self.D @ z[:n])[k]
         if kind == "yield":
@@ -157,7 +164,7 @@ class Reference:
             self.s[k] = 0
         self.events.append((t, kind, k))
 
-    def _decide(self, z):
+    def _decide(self, z, t):
         """Regimes after a velocity jump: a yielding storey whose drift velocity reversed unloads."""
         n = self.n
         drift, rate = self.D @ z[:n], self.D @ z[n:2 * n]
