@@ -1,6 +1,7 @@
 """Hunt and fill (Vamvatsikos & Cornell 2002) against synthetic IDAs whose collapse intensity is
 known: it is bracketed to the stated tolerance within 10 runs, the curve below it is filled, a
 record that never collapses gets no capacity."""
+import math
 import numpy as np
 import pytest
 
@@ -188,6 +189,7 @@ k = 2.0
 first = 0.2
 step = 0.2
 max_runs = 3
+stripes = "interpolate"
 [suite]
 generator = "kanai-tajimi"
 count = 2
@@ -275,3 +277,46 @@ def test_p695_capacities_are_those_of_the_set_scaled_collectively():
     for im, c, level in zip(ims, own, collective):
         assert (level / np.median(ims)) * im == pytest.approx(c, rel=1e-15)  # its own Sa at that level
     assert list(collective) == pytest.approx([4.0, 2.0, 1.5])
+
+
+def test_stripe_runs_take_the_ida_s_runs_where_they_fall_on_a_stripe(tmp_path, fmu_dir):
+    """stripes = "run": at 0.2 (the hunt's first intensity) each record's stripe row is its IDA run,
+    the same numbers a separate run of the stripe task gives (bit for bit) with no CPU of its own;
+    at 0.3 (no IDA run there) the stripe is run."""
+    from pidamper.assessment import assess
+
+    path = tmp_path / "elastic.toml"
+    path.write_text(ELASTIC_STUDY.replace('stripes = "interpolate"', 'stripes = "run"').replace(
+        "levels = [0.15, 0.3]", "levels = [0.2, 0.3]"))
+    study = assess.load(path)
+    traces = assess.run_ida(study, tmp_path / "out", workers=1, progress=False)
+    rows = assess.run_study(study, tmp_path / "out", workers=1, progress=False, traces=traces)
+    tasks = {t["key"]: t for t in assess.tasks(study)}
+    assert [r["level"] for r in rows] == [0.2, 0.3, 0.2, 0.3]
+    for row in rows:
+        taken = not math.isfinite(row["cpu_s"])
+        assert taken == (row["level"] == 0.2)
+        if taken:
+            direct = assess.run_task(tasks[row["key"]])
+            for key in ("drift_ratio", "floor_accel", "PID-1", "PID-2", "PFA-2", "RID-1", "collapsed", "t_end"):
+                assert row[key] == direct[key], key
+    ran = (tmp_path / "out" / "runs.csv").read_text().splitlines()
+    assert len(ran) == 1 + 2  # the two records at 0.3 only
+
+
+def test_interpolated_stripes_are_refused_beyond_their_leave_one_out_bound():
+    """A curve bent between runs: the run at 0.4 read off its neighbours (0.006 for 0.008) is 25 %
+    off, so a bound of 0.2 refuses the interpolation, naming ida.loo_limit and PID; 0.3 accepts."""
+    from pidamper.assessment import assess
+
+    runs = [[0.2, False, {"PID-1": 0.002, "PFA-1": 1.0}], [0.4, False, {"PID-1": 0.008, "PFA-1": 2.0}],
+            [0.6, False, {"PID-1": 0.01, "PFA-1": 3.0}], [0.8, True, {"PID-1": 0.1, "PFA-1": 4.0}]]
+    traces = [{"runs": runs, "lo": 0.6, "hi": 0.8}]
+
+    class Study:
+        source, ida = "study.toml", {"loo_limit": 0.2}
+
+    with pytest.raises(assess.StudyError, match=r"ida\.loo_limit = 0\.2 is not allowed: .*read PID within 25\.0%"):
+        assess.check_interpolation(Study, traces)
+    Study.ida = {"loo_limit": 0.3}
+    assess.check_interpolation(Study, traces)

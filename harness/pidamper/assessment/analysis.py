@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import fragility
+from . import fragility, hazard
 
 
 def demand_matrix(study, rows, configuration, demand="drift_ratio"):
@@ -74,26 +74,26 @@ def risk_intervals(study, fits):
 
 
 def _maf(study):
-    hazard = study.hazard
-    if "table" in hazard:
-        table = np.genfromtxt(study.folder / hazard["table"], delimiter=",", names=True)
-        return lambda fit: fragility.maf_table(fit, table["im"], table["rate"])
-    return lambda fit: fragility.maf_power_law(fit, hazard["k0"], hazard["k"])
+    """fit -> its MAF over the study's hazard: the closed form on a power law (fragility.maf_power_law),
+    the exact integral on a site curve (fragility.maf_table; beyond its points its end segments' power
+    laws with extrapolate = "loglog", else nothing: the curve's range only)."""
+    spec = study.hazard
+    if "curve" in spec:
+        curve = study.curve
+        tails = "power" if curve.extrapolate == "loglog" else "truncate"
+        return lambda fit: fragility.maf_table(fit, curve.x, curve.rates[curve.mean], tails)
+    return lambda fit: fragility.maf_power_law(fit, spec["k0"], spec["k"])
 
 
-def hazard_rate(study, slope=1.0):
-    """lambda(x) [1/yr] of the study's hazard; slope scales the power law's k about its upper
-    point (the sensitivity row: the rate at the higher of two cited points kept)."""
-    hazard = study.hazard
-    if "table" in hazard:
-        table = np.genfromtxt(study.folder / hazard["table"], delimiter=",", names=True)
-        lx, lr = np.log(table["im"]), np.log(table["rate"])
-        return lambda x: np.exp(np.interp(np.log(x), lx, lr, left=lr[0], right=-np.inf))
-    k0, k = hazard["k0"], hazard["k"]
-    if slope != 1.0:
-        x_ref = max(p[0] for p in hazard.get("points", [[1.0, 0]]))
-        k0, k = k0 * x_ref ** (k * slope - k), k * slope
-    return lambda x: k0 * np.asarray(x, dtype=float) ** (-k)
+def varied_power_law(study, slope):
+    """The study's power-law hazard with its k scaled by `slope` about its upper cited point (the
+    rate there kept): the sensitivity rows; None for a site curve (its fractiles are its spread)."""
+    spec = study.hazard
+    if "curve" in spec:
+        return None
+    x_ref = max(p[0] for p in spec.get("points", [[1.0, 0]]))
+    k0, k = spec["k0"], spec["k"]
+    return hazard.Curve.power_law(k0 * x_ref ** (k * slope - k), k * slope, f"k x {slope:g}")
 
 
 def risk(study, fits):

@@ -7,7 +7,8 @@ and the mean annual frequency of exceeding it from a hazard curve.
 The study file (TOML; every field is checked before any run (assessment.study_file), a refusal
 names the table and field, its value and what is allowed, exit status 2):
 
-    [study]          name, description, scope (what the study is and is not: a paragraph on the page)
+    [study]          name, description, scope (what the study is and is not: a paragraph on the page),
+                     changes (what changed from the study's last page and why: a section of the page)
     [building]       storeys (required) and FMU parameters of the building (storeys 1..10:
                      DampedShearBuilding<N>.fmu runs it, its parameters by name, storey[k].Fy...;
                      floor_m, storey_k, storey_Fy, storey_b: a number or a list of one per storey,
@@ -25,9 +26,14 @@ names the table and field, its value and what is allowed, exit status 2):
                      "PGV"; levels = [...] (required; ascending, none twice) in g (Sa, Sa_avg, PGA)
                      or m/s (PGV); zeta = 0.05
     [damage_states]  NAME = peak inter-storey drift ratio limit in (0, 1) (default DAMAGE_STATES)
-    [hazard]         one of: k0, k (power law k0 IM^-k, IM in the levels' units), points = [[IM, rate],
-                     [IM, rate]] with their source (the power law through them), or table =
-                     "hazard.csv" (columns im, rate; rates decreasing)
+    [hazard]         curve = a site hazard curve's file beside the study (a CSV: im, then rate or the
+                     mean and fractile columns; or a USGS hazard JSON, imt = "SA0P5"... picking its
+                     measure) with its source (the citation), site, period [s] of a CSV's Sa, extrapolate
+                     ("none", the default: every stripe on the curve; "loglog": its end segments'
+                     power laws continued), rule (how the EAL integrates between stripes: "loglog",
+                     "semilog" or "intervals"; hazard.Integral); or k0, k (the power law k0 IM^-k, IM
+                     in the levels' units); or points = [[IM, rate], [IM, rate]] with their source
+                     (the power law through them)
     [losses]         components (a FEMA P-58 component CSV), floor_area [m2], replacement_cost [USD
                      2011], replacement_days, realizations (default 50), repair_days ([30, 180]):
                      repair cost and time with pelicun (losses, loss_study)
@@ -35,10 +41,13 @@ names the table and field, its value and what is allowed, exit status 2):
                      ("farfield"), Ct and x (the code period): FEMA P-695's collapse margin with each
                      configuration's pushover's mu_T (p695)
     [ida]            first, step [levels' unit], increment, tolerance (0.05), max_runs (10), stripes
-                     ("interpolate" or "run"): each record's IDA to collapse by hunt and fill; its
-                     capacities then give the collapse fragility of [p695] (in the intensity of the set
-                     scaled collectively) and [losses]; with stripes = "interpolate" (the default) the
-                     stripes' demands are read off the IDA curves and no stripe is run
+                     ("run" or "interpolate"), loo_limit: each record's IDA to collapse by hunt and
+                     fill; its capacities then give the collapse fragility of [p695] (in the intensity
+                     of the set scaled collectively) and [losses]; the stripes are run (each record
+                     scaled by its own intensity; an IDA run at a stripe's intensity is taken as that
+                     stripe's run), or with stripes = "interpolate" (not with [losses]: residual drifts
+                     are never interpolated) read off the IDA curves when their leave-one-out error
+                     (90th percentile) is within loo_limit (LOO_LIMIT)
                      ([losses], [p695], [ida]: a building, storeys >= 1, run through its FMU)
     [run]            step [s] (communication step, > 0 and shorter than the shortest record; default
                      the records' dt), bootstrap (an integer >= 1; default 500), seed (an integer >= 0;
@@ -63,6 +72,7 @@ and every stripe run) and gives each damage state's MAF per configuration and ra
 or why there is none (the page's reason, e.g. no run reached it).
 """
 import argparse
+import dataclasses
 import functools
 import hashlib
 import json
@@ -78,8 +88,8 @@ import numpy as np
 
 from pidamper_physics import Params
 
-from . import demands, fragility, study_file
-from .analysis import analyse, demand_matrix, hazard_rate, risk_intervals
+from . import demands, fragility, hazard, study_file
+from .analysis import analyse, demand_matrix, risk_intervals, varied_power_law
 from .page import (NO_FIT, ida_lines, loss_lines, maf_text, plot_ida_traces, plot_pushover, plot_repair_complete,
                    ratio_text, runs_text, write_page)
 from .study_file import LOSS_FIELDS, StudyError
@@ -100,6 +110,9 @@ STOREY_HEIGHT = 3.0
 #: default damage states, peak transient inter-storey drift ratio: FEMA 356 (2000), Table C1-3,
 #: concrete frames: Immediate Occupancy 1 %, Life Safety 2 %, Collapse Prevention 4 %
 DAMAGE_STATES = {"IO": 0.01, "LS": 0.02, "CP": 0.04}
+#: [ida] stripes = "interpolate": the largest 90th percentile of the leave-one-out error (ida.leave_one_out)
+#: of the peak drifts and floor accelerations read off the IDA curves that a study accepts
+LOO_LIMIT = 0.25
 DEMANDS = ("drift_ratio", "drift_storey", "floor_accel", "stroke", "impacts", "cpu_s")
 #: what a building run through the FMU adds (assessment.demands; nan for the core engine and the
 #: pendulum primary): collapse (0/1), end time [s], the damper's largest impact speed [m/s] and
@@ -121,11 +134,13 @@ class Study:
     zeta: float
     damage_states: dict
     hazard: dict
+    curve: object = None  # hazard.Curve
     step: float = None
     bootstrap: int = 500
     seed: int = 0
     description: str = ""
     scope: str = ""
+    changes: str = ""  # what changed from the last page and why (the page's section)
     folder: Path = Path(".")
     records: list = field(default_factory=list)
     losses: dict = field(default_factory=dict)
@@ -225,28 +240,19 @@ def parse(data, source="study", folder=Path("."), text=""):
             raise _blame(err, source, building, name, params) from None
     intensity = data["intensity"]
     levels = intensity["levels"]
-    hazard = dict(data["hazard"])
-    if "table" in hazard:
-        table = folder / hazard["table"]
-        if not table.is_file():
-            raise StudyError(source, "hazard.table", hazard["table"], f"an existing CSV (looked for {table})")
-        values = np.genfromtxt(table, delimiter=",", names=True)
-        if values.dtype.names is None or not {"im", "rate"} <= set(values.dtype.names) or values.size < 2 \
-                or np.any(np.diff(values["im"]) <= 0) or np.any(np.diff(values["rate"]) >= 0) \
-                or np.any(values["rate"] <= 0):
-            raise StudyError(source, "hazard.table", hazard["table"], "a CSV with columns im, rate: im increasing, "
-                             "rate positive and decreasing (a hazard curve)")
-    elif "points" in hazard:
-        hazard.update(_hazard_points(hazard, source))
+    hazard_spec = dict(data["hazard"])
+    curve = _hazard_curve(hazard_spec, source, folder)
     study = Study(name=head.get("name", Path(source).stem), source=source, text=text, building=building,
                   heights=[float(h) for h in heights], configurations=configurations, suite=dict(data["suite"]),
                   measure=intensity.get("measure", "Sa"), levels=[float(v) for v in levels],
                   zeta=float(intensity.get("zeta", 0.05)),
-                  damage_states=dict(data.get("damage_states") or DAMAGE_STATES), hazard=hazard,
+                  damage_states=dict(data.get("damage_states") or DAMAGE_STATES), hazard=hazard_spec, curve=curve,
                   step=run.get("step"), bootstrap=run.get("bootstrap", 500), seed=run.get("seed", 0),
                   description=head.get("description", ""), scope=head.get("scope", ""), folder=folder,
+                  changes=head.get("changes", ""),
                   losses=_losses(data.get("losses"), source, folder), beta_m=float(run.get("beta_m", 0.0)),
                   p695=_p695(data.get("p695")), ida=_ida(data.get("ida"), source, levels))
+    _check_hazard_fits(study)
     try:
         study.records = ground_motion.suite(study.suite, folder)
     except (ValueError, OSError) as err:
@@ -278,6 +284,41 @@ def _blame(err, source, building, name, params):
     return StudyError(source, f"configurations.{name}", params, str(err))
 
 
+def _hazard_curve(spec, source, folder):
+    """The study's hazard.Curve: the file [hazard] curve names (hazard.read), or the power law of k0
+    and k or through two cited points (their k0 and k added to `spec`)."""
+    if "curve" in spec:
+        path = folder / spec["curve"]
+        if not path.is_file():
+            raise StudyError(source, "hazard.curve", spec["curve"], f"an existing CSV or USGS JSON file (looked for "
+                             f"{path})")
+        try:
+            curve = hazard.read(path, spec.get("extrapolate", "none"), spec["source"], spec.get("period"),
+                                spec.get("imt"))
+        except (hazard.HazardError, OSError, ValueError) as err:
+            raise StudyError(source, "hazard.curve", spec["curve"], str(err)) from None
+        return dataclasses.replace(curve, site=spec["site"]) if "site" in spec else curve
+    if "points" in spec:
+        spec.update(_hazard_points(spec, source))
+    return hazard.Curve.power_law(spec["k0"], spec["k"], spec.get("source", "power law"))
+
+
+def _check_hazard_fits(study):
+    """Every stripe on the curve (unless it names an extrapolation rule) and a spectral curve at the
+    study's period (within 10 %), else a refusal naming the stripe or the period."""
+    curve, spec = study.curve, study.hazard
+    if curve.extrapolate == "none":
+        for level in study.levels:
+            if not curve.covers(level):
+                raise StudyError(study.source, "intensity.levels", level, f"stripes on the hazard curve "
+                                 f"{spec['curve']} ({curve.x[0]:g} to {curve.x[-1]:g} {study.unit}), or [hazard] "
+                                 "extrapolate = \"loglog\" (its end segments' power laws continued: the page says how "
+                                 "much of the EAL comes from there)")
+    if study.measure == "Sa" and curve.period is not None and abs(math.log(curve.period / study.period)) > math.log(1.1):
+        raise StudyError(study.source, "hazard.period" if "period" in spec else "hazard.curve", curve.period,
+                         f"a curve of Sa at the study's period T1 = {study.period:.3g} s (within 10 %)")
+
+
 def _hazard_points(hazard, source):
     """k0, k of the power law through two cited (IM, annual rate) points."""
     points = hazard["points"]
@@ -293,12 +334,11 @@ def _hazard_points(hazard, source):
 
 def _ida(spec, source, levels):
     """The [ida] table with its defaults ({} without one; its fields checked by study_file).  Stripes
-    interpolated on the IDA curves need a hunt that climbs past the top stripe within max_runs (a
-    record that never collapses is traced that far)."""
+    are run unless the study asks to interpolate them on the IDA curves, which needs a hunt that
+    climbs past the top stripe within max_runs (a record that never collapses is traced that far)."""
     if not spec:
         return {}
-    out = {"tolerance": 0.05, "max_runs": 10, **spec}
-    out.setdefault("stripes", "interpolate")
+    out = {"tolerance": 0.05, "max_runs": 10, "stripes": "run", "loo_limit": LOO_LIMIT, **spec}
     top = max(hunt_ladder(out))
     if out["stripes"] == "interpolate" and top < max(levels):
         raise StudyError(source, "ida.max_runs", out["max_runs"], f"a hunt that reaches the top stripe "
@@ -353,12 +393,14 @@ def record_digest(record):
 
 
 def tasks(study):
-    """One task per record x level x configuration (a dict: key, what to run and the record).  A
-    FEMA P-695 set is scaled collectively (FEMA P-695 6.2.2: every record by the factor that brings
-    the set's median intensity to the level), any other suite record by record."""
+    """One task per record x level x configuration (a dict: key, what to run and the record).  Each
+    record is scaled by its own intensity to the level (FEMA P-58's time-based stripes, the IDA's
+    scaling), except a FEMA P-695 set in a study without [ida], scaled collectively (FEMA P-695 6.2.2:
+    every record by the factor that brings the set's median intensity to the level; its margin then
+    comes from these stripes)."""
     out = []
     ims = [study.intensity(record) for record in study.records]
-    collective = "set" in study.suite
+    collective = "set" in study.suite and not study.ida
     median = float(np.median(ims))
     for index, (record, im) in enumerate(zip(study.records, ims)):
         meta = {key: record.meta.get(key, "") for key in RECORD_META}
@@ -483,8 +525,9 @@ def ida_tasks(study):
         im = study.intensity(record)
         for name, params in study.configurations.items():
             values = start_values({**study.building, **params})
+            hunt = {key: value for key, value in study.ida.items() if key not in ("stripes", "loo_limit")}
             ident = {"record": record.name, "configuration": name, "values": values, "step": study.step,
-                     "samples": record_digest(record), "ida": study.ida, "tail": demands.TAIL_PERIODS,
+                     "samples": record_digest(record), "ida": hunt, "tail": demands.TAIL_PERIODS,
                      "demands": "all"}
             out.append({"key": hashlib.sha1(json.dumps(ident, sort_keys=True).encode()).hexdigest()[:16],
                         "record": record.name, "record_index": index, "configuration": name, "values": values,
@@ -568,6 +611,22 @@ def stripe_rows(study, traces):
     return out
 
 
+def check_interpolation(study, traces):
+    """Refuse stripes read off the IDA curves when their leave-one-out error (ida.leave_one_out) of
+    the peak drifts or floor accelerations exceeds the study's bound at the 90th percentile."""
+    from .ida import Trace, leave_one_out
+
+    loo = leave_one_out([Trace([tuple(x) for x in r["runs"]], r["lo"], r["hi"] if np.isfinite(r["hi"]) else None)
+                         for r in traces], ("PID-", "PFA-"))
+    worst = max(loo, key=lambda p: loo[p][1])
+    limit = study.ida["loo_limit"]
+    if loo[worst][1] > limit:
+        raise StudyError(study.source, "ida.loo_limit", limit, f"an error the IDA curves meet: they read {worst[:-1]} "
+                         f"within {loo[worst][1]:.1%} at the 90th percentile (leave-one-out), more than the bound; run "
+                         "the stripes (stripes = \"run\": the IDA's runs, kept in ida.csv, are taken where they fall on a "
+                         "stripe) or trace the curves closer (more runs)")
+
+
 def ida_collapse(study, traces, collective=False, at=None):
     """{configuration: loss_study.Collapse} from the IDA capacities (censored where none collapsed), in
     each record's own intensity; `collective`: in the intensity of the set scaled collectively (FEMA
@@ -636,18 +695,39 @@ def dispersion_lines(study, traces):
     return lines
 
 
-def run_study(study, out, engine="fmu", workers=None, dask=False, scheduler=None, fmu=None, progress=True):
-    """Run every task not yet in OUT/runs.csv; the tidy rows, in task order."""
+def run_study(study, out, engine="fmu", workers=None, dask=False, scheduler=None, fmu=None, progress=True,
+              traces=None):
+    """Run every task not yet in OUT/runs.csv and not already run by the IDA (`traces`: a record's
+    run at the stripe's intensity is that task's run, its cpu_s nan: counted in the IDA); the tidy
+    rows, in task order."""
     from ..running.fmu import find_fmu
 
     todo_all = tasks(study)
     columns = (["key", "record", "record_index", "level", "im_record", "factor", "configuration"] + list(DEMANDS)
                + list(RUN_FIELDS) + demands.names(study.storeys) + list(RECORD_META))
-    table = Journal(Path(out) / "runs.csv", columns, todo_all, "stripe runs", "runs", reporting(progress))
+    given = _ida_runs_on_stripes(study, traces, todo_all, columns)
+    todo = [t for t in todo_all if t["key"] not in given]
+    table = Journal(Path(out) / "runs.csv", columns, todo, "stripe runs", "runs", reporting(progress))
     path = str(find_fmu(fmu, storeys=study.storeys)) if engine == "fmu" else None
-    run_table(run_task, todo_all, [t["key"] for t in todo_all], table, engine, path, workers, dask, scheduler,
+    run_table(run_task, todo, [t["key"] for t in todo], table, engine, path, workers, dask, scheduler,
               progress, "assess", steps)
-    return [_typed(table.done[t["key"]]) for t in todo_all]
+    return [given[t["key"]] if t["key"] in given else _typed(table.done[t["key"]]) for t in todo_all]
+
+
+def _ida_runs_on_stripes(study, traces, todo, columns):
+    """{task key: row} of the stripe tasks an IDA ran already: the same record scaled by its own
+    intensity to the same level in the same configuration is the same run, its demands as run_task
+    would give them, cpu_s nan."""
+    by_key = {(r["record_index"], r["configuration"]): r for r in traces or ()}
+    out = {}
+    for task in todo:
+        trace = by_key.get((task["record_index"], task["configuration"]))
+        found = next((run[2] for run in trace["runs"] if run[0] == task["level"]), None) if trace else None
+        if found is None or task["factor"] != task["level"] / task["im_record"]:
+            continue
+        row = {**task, **found, **demands.largest(found, study.storeys), "cpu_s": math.nan}
+        out[task["key"]] = _typed({c: row.get(c, "") for c in columns})
+    return out
 
 
 def _typed(row):
@@ -710,15 +790,18 @@ def assess_losses(study, rows, out, collapse=None, workers=1):
     frames = [frame for _, parts in found for frame in parts]
     table = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
     table.to_parquet(Path(out) / "losses.parquet")
-    values, ratios = loss_study.compare(study, per_conf, hazard_rate(study))
+    rule = study.hazard.get("rule", "loglog")
+    values, ratios = loss_study.compare(study, per_conf, hazard.Integral(study.curve, study.levels, rule))
     slopes = {}
-    if "table" not in study.hazard:
-        for slope in (0.75, 1.25):
-            rate = hazard_rate(study, slope)
-            eal = [loss_study.annual(study, per_conf[c], np.arange(len(study.records)), rate)[0] for c in per_conf]
+    for slope in (0.75, 1.25):
+        curve = varied_power_law(study, slope)
+        if curve is not None:
+            eal = [loss_study.annual(study, per_conf[c], np.arange(len(study.records)),
+                                     hazard.Integral(curve, study.levels, rule))[0] for c in per_conf]
             slopes[slope] = [e / eal[0] for e in eal[1:]]
     plot_repair_complete(study, per_conf, table, Path(out) / "repair-complete.png")
-    return loss_lines(study, rows, per_conf, values, ratios, slopes)
+    figures = loss_study.hazard_figures(study, per_conf, rule)
+    return loss_lines(study, rows, per_conf, values, ratios, slopes, figures)
 
 
 def p695_lines(study, rows, out, collapse=None):
@@ -855,10 +938,11 @@ def assessment(study_path, out="assessment", engine="fmu", workers=None, dask=Fa
         plot_ida_traces(study, traces, out / "ida-collapse.png")
         extra += ida_lines(study, traces, stages[-1][1]) + dispersion_lines(study, traces)
     if study.ida.get("stripes") == "interpolate":
+        check_interpolation(study, traces)
         rows = stripe_rows(study, traces)
     else:
         t0 = time.perf_counter()
-        rows = run_study(study, out, engine, workers, dask, scheduler, fmu, progress)
+        rows = run_study(study, out, engine, workers, dask, scheduler, fmu, progress, traces)
         stage("stripe runs", t0)
     wall = sum(sec for _, sec in stages)
     write_parquet(rows, out / "runs.parquet")

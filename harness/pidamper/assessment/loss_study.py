@@ -9,13 +9,14 @@ the stripes' collapsed runs (Baker 2015's MLE, fragility.fit_records), or, when 
     E[L | x_j]      = P_C(x_j) C_rep + (1 - P_C(x_j)) mean_r E[L_r]         (r: records standing)
     P(T > t | x_j)  = P_C(x_j) [T_rep > t] + (1 - P_C(x_j)) mean_r P(T_r > t)
 
-and over the hazard lambda(x) the stripes stand for the intervals between the geometric midpoints
-of neighbouring stripes (the lowest from x_1^2/m_1, the highest to infinity), so that
+and over the hazard lambda(x) (hazard.Integral: the stripes' values interpolated between them by the
+study's rule and integrated in closed form against the curve, held above the top stripe)
 
-    EAL = sum_j E[L | x_j] (lambda(lo_j) - lambda(hi_j)),   MAF(T > t) likewise;
+    EAL = int E[L | x] |d lambda(x)|,   MAF(T > t) likewise,
 
-intensities below the lowest interval are taken to cause no loss (the page says so).  Every number
-per record is stored (OUT/losses.parquet) and the paired bootstrap over records resamples them."""
+from the lowest stripe up (the page shows the loss there and how the EAL moves with the lower limit
+and the rule).  Every number per record is stored (OUT/losses.parquet) and the paired bootstrap over
+records resamples them."""
 import math
 from dataclasses import dataclass
 
@@ -108,7 +109,8 @@ def stripe_losses(study, rows, configuration, components, realizations, seed, si
         frame = pd.DataFrame([[r[n[:-2]] for n in names] for r in standing], columns=names,
                              index=[r["record_index"] for r in standing])
         found = losses.repair(frame, components, spec["replacement_cost"], spec["replacement_days"],
-                              spec["floor_area"], realizations, seed + j)
+                              spec["floor_area"], realizations, seed + j, spec.get("demand_dispersion", 0.0),
+                              spec.get("total_loss"))
         if sink is not None:
             sink(level, found)
         grouped = found.groupby("record", sort=False)
@@ -122,32 +124,32 @@ def stripe_losses(study, rows, configuration, components, realizations, seed, si
     return StripeLosses(p_c, collapsed, cost, irreparable, exceed, source, groups, collapse)
 
 
-def hazard_weights(levels, rate):
-    """lambda(lo_j) - lambda(hi_j) of each stripe's interval (module doc); rate(x) -> 1/yr."""
-    x = np.asarray(levels, dtype=float)
-    mids = np.sqrt(x[1:] * x[:-1])
-    lo = np.concatenate([[x[0] ** 2 / mids[0]], mids])
-    hi_rate = np.concatenate([rate(mids), [0.0]])
-    return rate(lo) - hi_rate
-
-
-def annual(study, stripes, rows_drawn, rate):
-    """[EAL, MAF(T > t) per threshold] of one configuration from the records `rows_drawn` (the
-    bootstrap's draw; collapse refitted on it)."""
+def stripe_values(study, stripes, rows_drawn):
+    """Per stripe [E[L | x_j] [USD], P(T > t | x_j) per threshold] of one configuration from the
+    records `rows_drawn` (the bootstrap's draw; collapse refitted on it); None when the collapse
+    has no fit on them."""
     spec = study.losses
-    weights = hazard_weights(study.levels, rate)
     collapse = stripes.collapse or Collapse(study.levels, stripes.collapsed, study.beta_m)
     p_c, _ = collapse(rows_drawn)
     if np.isnan(p_c).any():
-        return [math.nan] * (1 + len(spec["repair_days"]))
+        return None
     cost = _mean_standing(stripes.cost[rows_drawn])
     cost = np.where(np.isnan(cost), spec["replacement_cost"], cost)  # every drawn record collapsed there
-    out = [float(np.sum(weights * (p_c * spec["replacement_cost"] + (1 - p_c) * cost)))]
+    out = [p_c * spec["replacement_cost"] + (1 - p_c) * cost]
     for t in spec["repair_days"]:
         p = _mean_standing(stripes.exceed_days[t][rows_drawn])
         p = np.where(np.isnan(p), 1.0, p)
-        out.append(float(np.sum(weights * (p_c * (spec["replacement_days"] > t) + (1 - p_c) * p))))
+        out.append(p_c * (spec["replacement_days"] > t) + (1 - p_c) * p)
     return out
+
+
+def annual(study, stripes, rows_drawn, integral):
+    """[EAL, MAF(T > t) per threshold] of one configuration from the records `rows_drawn` over the
+    hazard: integral a hazard.Integral over the study's stripes."""
+    values = stripe_values(study, stripes, rows_drawn)
+    if values is None:
+        return [math.nan] * (1 + len(study.losses["repair_days"]))
+    return [integral(v) for v in values]
 
 
 def _mean_standing(values):
@@ -158,14 +160,14 @@ def _mean_standing(values):
     return np.where(count > 0, total / np.maximum(count, 1), np.nan)
 
 
-def compare(study, per_conf, rate, n=None, seed=None):
+def compare(study, per_conf, integral, n=None, seed=None):
     """Paired bootstrap of every configuration's [EAL, MAF(T > t)...] and of their ratios to the
     first configuration: {configuration: [Interval...]}, {configuration: [ratio Interval...]}."""
     confs = list(per_conf)
     size = 1 + len(study.losses["repair_days"])
 
     def statistic(rows_drawn):
-        values = [annual(study, per_conf[c], rows_drawn, rate) for c in confs]
+        values = [annual(study, per_conf[c], rows_drawn, integral) for c in confs]
         ratios = [v / b if b > 0 else np.nan for c in values[1:] for v, b in zip(c, values[0])]
         return [x for v in values for x in v] + ratios
 
@@ -187,3 +189,66 @@ def repair_complete(stripes, frames, level_index, days, replacement_days):
         sample = np.sort(frames["days_parallel"].to_numpy())
         done = np.searchsorted(sample, days, side="right") / sample.size
     return (1 - p_c) * done + p_c * (np.asarray(days) >= replacement_days)
+
+
+@dataclass
+class HazardFigures:
+    """What the EAL owes to the hazard and the integration, every record counted: per configuration
+    the EAL [USD/yr] by (lower stripe index, rule) (convergence), by curve name (the mean and its
+    fractiles), the part from intensities outside the curve's points, the mean loss at the lowest
+    stripe [USD], a bound on what lies below it [USD/yr] (the loss there at most the lowest
+    stripe's: v(s_1) (lambda(x_1) - lambda(s_1)), x_1 the curve's first point) and an estimate of it
+    (the power law through the two lowest stripes continued down to x_1); nan where the curve starts
+    above s_1 or the lowest losses are 0."""
+    convergence: dict
+    curves: dict
+    outside: dict
+    lowest: dict
+    below: dict
+    trend: dict
+
+
+def hazard_figures(study, per_conf, rule, lowers=3):
+    """HazardFigures of the configurations' StripeLosses (every record) under the study's curve."""
+    from . import hazard
+
+    everyone = np.arange(len(study.records))
+    loss = {c: (stripe_values(study, s, everyone) or [None])[0] for c, s in per_conf.items()}
+    curve = study.curve
+    convergence, curves, outside, below = {}, {}, {}, {}
+    for lower in range(min(lowers, len(study.levels) - 1)):
+        for how in hazard.RULES:
+            try:
+                integral = hazard.Integral(curve, study.levels, how, lower)
+            except hazard.HazardError:  # the intervals rule reaches below the curve's first point
+                convergence[lower, how] = {c: math.nan for c in loss}
+                continue
+            convergence[lower, how] = {c: integral(v) if v is not None else math.nan for c, v in loss.items()}
+    for name in curve.names:
+        integral = hazard.Integral(curve, study.levels, rule, 0, name)
+        curves[name] = {c: integral(v) if v is not None else math.nan for c, v in loss.items()}
+    integral = hazard.Integral(curve, study.levels, rule)
+    start = study.levels[0]
+    reach = curve.x[0] < start
+    trend = {}
+    for c, v in loss.items():
+        outside[c] = integral.outside(v) if v is not None else math.nan
+        below[c] = (v[0] * float(curve.rate(curve.x[0]) - curve.rate(start)) if reach and v is not None
+                    else math.nan)
+        trend[c] = _below_trend(curve, study.levels, v) if reach and v is not None else math.nan
+    return HazardFigures(convergence, curves, outside, {c: v[0] if v is not None else math.nan
+                                                         for c, v in loss.items()}, below, trend)
+
+
+def _below_trend(curve, levels, v):
+    """int_{x_1}^{s_1} v |d lambda| with v the power law through the two lowest stripes' values
+    (nan when either is 0)."""
+    from . import hazard
+
+    (s1, s2), (v1, v2) = levels[:2], v[:2]
+    if not (v1 > 0 and v2 > 0):
+        return math.nan
+    x0 = curve.x[0]
+    slope = math.log(v2 / v1) / math.log(s2 / s1)
+    piece = hazard.Integral(curve, [x0, s1], "loglog")
+    return piece([v1 * (x0 / s1) ** slope, v1]) - v1 * float(curve.rate(s1))

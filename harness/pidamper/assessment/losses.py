@@ -18,7 +18,9 @@ are kept, never re-fitted to a distribution.  Conventions (FEMA P-58-1, 2018):
   and `sequential` (floor after floor).
 """
 import functools
+import math
 import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -54,6 +56,33 @@ def library(kind):
     _, file_io, _ = _pelicun()
     path = file_io.substitute_default_path([f"PelicunDefault/FEMA P-58/{kind}.csv"])[0]
     return file_io.load_data(path, None, orientation=1, reindex=False)
+
+
+def descriptions():
+    """{component ID: the library's description} of the DLML FEMA P-58 fragilities (fragility.json)."""
+    import json
+
+    _, file_io, _ = _pelicun()
+    path = Path(file_io.substitute_default_path(["PelicunDefault/FEMA P-58/fragility.csv"])[0])
+    found = json.loads(path.with_suffix(".json").read_text())
+    return {cid: entry.get("Description", "") for cid, entry in found.items() if isinstance(entry, dict)}
+
+
+def component_rows(model):
+    """The performance model as the page's table rows: per component ID its library description,
+    demand, floors, directions, quantity per floor and unit (one row per ID and quantity)."""
+    fragility, text = library("fragility"), descriptions()
+    rows = {}
+    for cid, row in model.iterrows():
+        key = (cid, row["Theta_0"], row["Units"], str(row["Direction"]))
+        entry = rows.setdefault(key, [])
+        entry.append(str(row["Location"]))
+    out = []
+    for (cid, quantity, unit, direction), floors in rows.items():
+        demand = fragility.loc[cid, ("Demand", "Type")]
+        out.append((cid, text.get(cid, "").strip().rstrip("."), demand, ", ".join(sorted(floors)), direction,
+                    quantity, unit))
+    return out
 
 
 def read_components(path):
@@ -112,11 +141,20 @@ def _replacement_rows(header, cost, worker_days):
     return rows
 
 
-def _demand_sample(demands, realizations):
+def _demand_sample(demands, realizations, beta_m=0.0, seed=0):
+    """pelicun's demand sample: each record's row `realizations` times, every demand of a
+    realization times exp(beta_m eps), eps standard normal, stratified (one draw per 1/n of its
+    distribution, shuffled) and shared by the realization's demands (FEMA P-58's modelling
+    dispersion added to the demands, their medians kept)."""
     import pandas as pd
+    from scipy.special import ndtri
 
     columns = list(demands.columns)
     raw = np.repeat(demands.to_numpy(dtype=float), realizations, axis=0)
+    if beta_m:
+        rng = np.random.default_rng([seed, 58])
+        eps = ndtri((rng.permutation(len(raw)) + rng.random(len(raw))) / len(raw))
+        raw = raw * np.exp(beta_m * eps)[:, None]
     sample = pd.DataFrame(raw, columns=columns)
     rid = [c for c in columns if c.startswith("RID-")]
     sample = sample.drop(columns=rid)
@@ -126,9 +164,24 @@ def _demand_sample(demands, realizations):
     return pd.concat([sample.astype(object), pd.DataFrame([units], columns=sample.columns, index=["Units"])])
 
 
-def repair(demands, components, replacement_cost, replacement_days, floor_area, realizations=50, seed=0):
+def _total_loss(replacement_cost, worker_days, ratio):
+    """pelicun's replacement configuration: a realization whose repair cost exceeds `ratio` times
+    the replacement cost is replaced (its cost and time the replacement's, its repairs dropped)."""
+    from pelicun import uq
+
+    registry = uq.RandomVariableRegistry(np.random.default_rng(0))
+    registry.add_RV(uq.DeterministicRandomVariable("Cost", theta=np.array([replacement_cost])))
+    registry.add_RV(uq.DeterministicRandomVariable("Time", theta=np.array([worker_days])))
+    return registry, {"Cost": ratio, "Time": math.inf}  # the threshold is on cost alone
+
+
+def repair(demands, components, replacement_cost, replacement_days, floor_area, realizations=50, seed=0,
+           beta_m=0.0, total_loss=None):
     """Loss realizations (module doc) of the records' demands: a DataFrame with record (the demands'
-    index), cost [USD 2011], days_parallel, days_sequential [days], irreparable (bool), in order."""
+    index), cost [USD 2011], days_parallel, days_sequential [days], irreparable (bool: by residual
+    drift), total_loss (bool: replaced because the repairs would cost more than `total_loss` times
+    the replacement cost; FEMA P-58's total-loss threshold, none when None), in order; beta_m the
+    modelling dispersion added to the demands (_demand_sample)."""
     import pandas as pd
 
     assessment, _, warning_kind = _pelicun()
@@ -141,7 +194,7 @@ def repair(demands, components, replacement_cost, replacement_days, floor_area, 
                                    "Sampling": {"SamplingMethod": "LHS"}})
     with warnings.catch_warnings(record=True) as heard:
         warnings.simplefilter("always", warning_kind)
-        sample = _demand_sample(demands, realizations)
+        sample = _demand_sample(demands, realizations, beta_m, seed)
         model.demand.load_sample(sample)
         model.demand.clone_demands({c: [c, c[:-1] + "2"] for c in sample.columns if c[:3] in ("PID", "PFA", "PFV")})
         model.demand.sample.columns.names = ["type", "loc", "dir"]  # clone_demands drops them (3.10)
@@ -167,7 +220,8 @@ def repair(demands, components, replacement_cost, replacement_days, floor_area, 
         model.loss.load_model_parameters([_replacement_rows(table.columns, replacement_cost, replacement_days * workers),
                                           table.loc[keep].dropna(axis=1, how="all")])
         model.loss.calculate()
-        total, _ = model.loss.aggregate_losses(future=True)
+        replace = None if total_loss is None else _total_loss(replacement_cost, replacement_days * workers, total_loss)
+        total, exceeded = model.loss.aggregate_losses(replace, future=True)
     worrying = [str(w.message) for w in heard if "does not provide" in str(w.message) or "not found" in str(w.message)]
     if worrying:
         raise ComponentError("pelicun: " + " | ".join(" ".join(m.split())[:200] for m in worrying))
@@ -178,11 +232,13 @@ def repair(demands, components, replacement_cost, replacement_days, floor_area, 
         days_parallel = total[("repair_time", "parallel")].to_numpy(float) / workers
         days_sequential = total[("repair_time", "sequential")].to_numpy(float) / workers
     irreparable = (model.damage.ds_model.ds_sample["irreparable"].max(axis=1) == 1).to_numpy()
+    replaced = (exceeded["Cost"].to_numpy(bool) if total_loss is not None and "Cost" in exceeded
+                and len(exceeded) == n else np.zeros(n, bool))
     out = pd.DataFrame({"record": np.repeat(demands.index.to_numpy(), realizations), "cost": cost,
                         "days_parallel": days_parallel, "days_sequential": days_sequential,
-                        "irreparable": irreparable})
+                        "irreparable": irreparable, "total_loss": replaced})
     for group, value in _group_costs(model.loss.sample, n).items():
-        out[f"cost_{group}"] = value
+        out[f"cost_{group}"] = np.where(replaced, 0.0, value)  # a replaced building has no repairs
     return out
 
 

@@ -82,7 +82,7 @@ NO_FIT = {"none": "no run reached it", "all": "every run reached it at every str
 def _scaling_text(study, traces):
     if traces is not None and study.ida["stripes"] == "interpolate":
         return "each record scaled by its own intensity to each level (its demands there read off its IDA curve)"
-    if "set" in study.suite:
+    if "set" in study.suite and not study.ida:
         return "the set scaled collectively (FEMA P-695 6.2.2: its median intensity brought to each level)"
     return "each record scaled by its own intensity to each level"
 
@@ -102,7 +102,9 @@ def runs_text(study, rows, traces):
     of = f"IDA of {len(study.records)} records x {confs} configurations"
     if _interpolated(study, traces):
         return f"{ida} runs ({of}; the {len(rows)} stripe demands interpolated on the IDA curves)"
-    return f"{ida + len(rows)} runs ({ida} in the {of}, {len(rows)} at the stripes: {stripes})"
+    ran = sum(1 for r in rows if np.isfinite(r["cpu_s"]))
+    return (f"{ida + ran} runs ({ida} in the {of}, {ran} at the stripes: {stripes}, the other {len(rows) - ran} "
+            "stripe runs the IDA's at that intensity)")
 
 
 def _runs_text(study, rows, traces):
@@ -111,7 +113,7 @@ def _runs_text(study, rows, traces):
         cpu = np.array([r["cpu_s"] for r in traces]) / np.array([len(r["runs"]) for r in traces])
         return (f"{runs_text(study, rows, traces)}, {cpu.mean():.2f} s CPU per run (median per record "
                 f"{np.median(cpu):.2f} s)")
-    cpu = np.array([r["cpu_s"] for r in rows])
+    cpu = np.array([r["cpu_s"] for r in rows if np.isfinite(r["cpu_s"])])
     per = "stripe run" if traces is not None else "run"
     return f"{runs_text(study, rows, traces)}, {cpu.mean():.2f} s CPU per {per} (median {np.median(cpu):.2f} s)"
 
@@ -136,12 +138,10 @@ def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), 
     plot_ida(study, rows, out / "ida.png")
     plot_fragility(study, fits, out / "fragility.png")
     confs = list(study.configurations)
-    hazard = study.hazard
-    hazard_text = (f"the table {hazard['table']}" if "table" in hazard else
-                   f"the power law lambda(IM) = k0 IM^-k with k0 = {hazard['k0']:.4g}, k = {hazard['k']:g} "
-                   f"(IM in {study.unit})")
+    plot_hazard(study, out / "hazard.png")
     lines = [f"# Assessment: {study.name}", "", study.description, "",
              *(["**What this study is and is not.** " + study.scope, ""] if study.scope else []),
+             *(["## What changed from the last page, and why", "", study.changes, ""] if study.changes else []),
              f"Written by `{command}` on {platform.machine()} ({cpu_model()}), Python {platform.python_version()}: "
              f"{_runs_text(study, rows, traces)}, {wall:.0f} s wall on {workers} worker(s)." + (" Its cost on 1 and 2 workers and the extrapolation to more: "
              "[scaling.md](scaling.md) (it names the command that wrote it)." if (out / "scaling.md").exists() else "")
@@ -164,7 +164,8 @@ def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), 
                 continue
             lo, hi = np.percentile(sf.band.theta, [5, 95]) if len(sf.band.theta) else (math.nan, math.nan)
             lines.append(f"| {state} | {conf} | {sf.fit.theta:.4g} | {sf.fit.beta:.3g} | {lo:.4g} to {hi:.4g} |")
-    lines += ["", f"## Risk: mean annual frequency of exceedance, hazard {hazard_text}", "",
+    lines += ["", "## Risk: mean annual frequency of exceedance", "", f"Hazard: {hazard_text(study)}.", "",
+              "![hazard](hazard.png)", "",
               "| damage state | " + " | ".join(f"MAF {c} [1/yr]" for c in confs) + " | " +
               " | ".join(f"ratio {c} / {confs[0]}" for c in confs[1:]) + " |",
               "|---|" + "---:|" * (2 * len(confs) - 1)]
@@ -206,7 +207,8 @@ def ida_lines(study, traces, wall):
     spec = study.ida
     bracketed = [r for r in traces if np.isfinite(r["hi"])]
     tight = sum(1 for r in bracketed if r["hi"] - r["lo"] <= spec["tolerance"] * r["lo"])
-    how = "The stripes below are separate runs."
+    how = ("The stripes below were run, each record scaled by its own intensity as in its IDA; where an IDA run fell "
+           "on a stripe's intensity, that run is the stripe's (the same run).")
     if spec["stripes"] == "interpolate":
         loo = leave_one_out([Trace([tuple(x) for x in r["runs"]], r["lo"], r["hi"] if np.isfinite(r["hi"]) else None)
                              for r in traces])
@@ -278,11 +280,61 @@ def plot_pushover(push, path):
     plt.close(fig)
 
 
+def hazard_text(study):
+    """What the study's hazard is, in a sentence's words."""
+    spec, curve = study.hazard, study.curve
+    if "curve" not in spec:
+        return (f"the power law lambda(IM) = k0 IM^-k with k0 = {spec['k0']:.4g}, k = {spec['k']:g} (IM in "
+                f"{study.unit}; " + (f"through two points: {spec['source']}" if "points" in spec else
+                                     spec.get("source", "as given")) + "), no site's curve")
+    measure = f"Sa at T = {curve.period:g} s" if curve.period else study.measure
+    fractiles = [n for n in curve.names[1:]]
+    return (f"the site hazard curve `{spec['curve']}` ({curve.source}" + (f"; {curve.site}" if curve.site else "")
+            + f"), {measure}, {curve.x.size} points from {curve.x[0]:g} to {curve.x[-1]:g} {study.unit}, "
+            f"the {curve.mean} curve" + (f" (fractiles {', '.join(fractiles)} beside it)" if fractiles else "")
+            + "; between its points log-log; " + ("no value outside them (every stripe lies on it)"
+                                                  if curve.extrapolate == "none" else
+                                                  "outside them its end segments' power laws continued"))
+
+
+def plot_hazard(study, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    curve = study.curve
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    lo, hi = min(curve.x[0], study.levels[0]), max(curve.x[-1], study.levels[-1])
+    if "curve" in study.hazard:
+        for i, name in enumerate(curve.names):
+            ax.loglog(curve.x, curve.rates[name], "o-" if i == 0 else "--", ms=3, lw=1.5 if i == 0 else 0.9,
+                      color="k" if i == 0 else f"C{i}", label=name)
+    else:
+        x = np.geomspace(lo, hi, 200)
+        ax.loglog(x, curve.rate(x), "k-", label="power law")
+    for level in study.levels:
+        ax.axvline(level, color="0.6", lw=0.6)
+    for rate, text in ((-math.log(0.9) / 50, "10 % in 50 yr"), (-math.log(0.98) / 50, "2 % in 50 yr")):
+        ax.axhline(rate, color="C3", ls=":", lw=0.8)
+        ax.annotate(text, (lo, rate), fontsize=7, color="C3", va="bottom")
+    ax.set_xlabel(f"{study.label} (grey: the stripes)")
+    ax.set_ylabel("annual rate of exceedance [1/yr]")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    ax.set_title("Hazard curve")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def _loss_levels(study):
-    """The two stripes of the repair-complete curves: those nearest the hazard's two cited points,
-    else the middle and the highest stripe."""
-    points = study.hazard.get("points")
-    targets = [p[0] for p in points] if points else [study.levels[len(study.levels) // 2], study.levels[-1]]
+    """The two stripes of the repair-complete curves: those nearest the 10 % and 2 % in 50 years
+    intensities of a site curve or the power law's two cited points, else the middle and the
+    highest stripe."""
+    points, curve = study.hazard.get("points"), study.curve
+    targets = ([p[0] for p in points] if points else
+               [curve.intensity(-math.log(p) / 50) for p in (0.9, 0.98)] if "curve" in study.hazard else
+               [study.levels[len(study.levels) // 2], study.levels[-1]])
     return sorted({int(np.argmin(np.abs(np.log(np.asarray(study.levels) / t)))) for t in targets})
 
 
@@ -318,7 +370,7 @@ def _mean_text(values):
     return f"{finite.mean():.3g}" if finite.size else "collapsed"
 
 
-def loss_lines(study, rows, per_conf, values, ratios, slopes):
+def loss_lines(study, rows, per_conf, values, ratios, slopes, figures):
     from . import losses
 
     spec = study.losses
@@ -329,11 +381,21 @@ def loss_lines(study, rows, per_conf, values, ratios, slopes):
              f"fragilities and repair consequences of the SimCenter Damage and Loss Model Library, USD of 2011); "
              f"floor area {spec['floor_area']:g} m2 per storey ({workers:.2f} workers per floor: FEMA P-58's one per "
              f"1000 sq ft); replacement {spec['replacement_cost']:.4g} USD and {spec['replacement_days']:g} days; "
-             f"{spec['realizations']} realizations per record and stripe; the analysed direction applied to both; "
-             "irreparable when the largest residual drift ratio exceeds its capacity (median 1 %, beta 0.3). "
-             "Collapse: " + "; ".join(f"{c}: {per_conf[c].collapse_source}" for c in confs) + ". "
-             "Storeys do not deteriorate (bilinear with hardening, P-Delta), so collapse is the drift limit of the "
-             "building FMU.", "",
+             f"{spec['realizations']} realizations per record and stripe; the building is the same in both directions, "
+             "so the one analysed direction's demands serve both and non-directional components see 1.2 times them "
+             "(FEMA P-58's non-directional provision, pelicun's default), not the two components of a record pair; "
+             + (f"modelling dispersion beta_m = {spec['demand_dispersion']:g} added to every demand (each realization "
+                "scaled by one lognormal factor, medians kept); " if spec.get("demand_dispersion") else
+                "no modelling dispersion added to the demands; ")
+             + "irreparable when the largest residual drift ratio exceeds its capacity (median 1 %, beta 0.3); "
+             + (f"replaced when the repairs would cost more than {spec['total_loss']:g} of the replacement cost "
+                "(the total-loss threshold, pelicun's replacement configuration). " if spec.get("total_loss") else
+                "no total-loss threshold. ")
+             + "Collapse: " + "; ".join(f"{c}: {per_conf[c].collapse_source}" for c in confs) + ". "
+             + ("Storeys deteriorate (IMKBilin, P-Delta): collapse is the building's sidesway or a storey's loss of "
+                "strength." if study.building.get("storey_law") == 1 else
+                "Storeys do not deteriorate (bilinear with hardening, P-Delta), so collapse is the drift limit of the "
+                "building FMU."), "",
              "| " + study.measure + " [" + study.unit + "] | " + " | ".join(
                  f"{c}: P(collapse) | {c}: mean loss [USD] | {c}: P(> {spec['repair_days'][0]:g} d)" for c in confs)
              + " |", "|---:|" + "---:|" * (3 * len(confs))]
@@ -360,9 +422,10 @@ def loss_lines(study, rows, per_conf, values, ratios, slopes):
         cells += [f"{np.median(demand_matrix(study, rows, c, 'floor_accel')[:, j]):.3g}" for c in confs]
         lines.append(f"| {level:g} | " + " | ".join(cells) + " |")
     names = ["expected annual loss [USD/yr]"] + [f"MAF of repair > {t:g} days [1/yr]" for t in spec["repair_days"]]
-    lines += ["", f"Over the hazard (90 % paired bootstrap over records, {study.bootstrap} resamples; intensities "
-              f"below {study.levels[0] ** 2 / np.sqrt(study.levels[0] * study.levels[1]):.3g} {study.unit} taken to "
-              "cause no loss):", "",
+    rule = study.hazard.get("rule", "loglog")
+    lines += ["", f"Over the hazard (90 % paired bootstrap over records, {study.bootstrap} resamples; "
+              f"{RULE_TEXT[rule]}; below the lowest stripe, {study.levels[0]:g} {study.unit}, no loss: "
+              "the next section shows what that leaves out):", "",
               "| quantity | " + " | ".join(confs) + " | " + " | ".join(f"ratio {c} / {confs[0]}" for c in confs[1:])
               + " | unfitted resamples |", "|---|" + "---:|" * (2 * len(confs))]
     for i, name in enumerate(names):
@@ -373,7 +436,62 @@ def loss_lines(study, rows, per_conf, values, ratios, slopes):
         lines += ["", "Sensitivity of the EAL ratio to the hazard's slope k (the rate at the higher cited point "
                   "kept): " + "; ".join(f"k x {s:g}: " + ", ".join(f"{r:.3g}" for r in v) for s, v in slopes.items())
                   + "."]
+    lines += eal_lines(study, figures, rule)
+    lines += ["", "### The performance model", "", f"`{spec['components']}`, each component's FEMA P-58 fragility "
+              "by its ID in the SimCenter library (description as the library gives it; direction 0: "
+              "non-directional):", "", "| ID | description | demand | floors | directions | quantity per floor | unit |",
+              "|---|---|---|---|---|---:|---|"]
+    lines += [f"| {cid} | {text} | {demand} | {floors} | {direction} | {quantity:g} | {unit} |"
+              for cid, text, demand, floors, direction, quantity, unit in losses.component_rows(spec["model"])]
     lines += ["", "![repair complete](repair-complete.png)", "",
               "Every loss realization: `losses.parquet` (configuration, level, record, cost, days_parallel, "
               "days_sequential, irreparable)."]
+    return lines
+
+
+#: how the EAL integrates between the stripes (hazard.Integral), in the page's words
+RULE_TEXT = {"loglog": "E[L | x] a power law in x between neighbouring stripes (linear in ln x next to a zero "
+                       "loss), integrated exactly against the log-log hazard, held at the top stripe's above it",
+             "semilog": "E[L | x] linear in ln x between neighbouring stripes, integrated exactly against the "
+                        "log-log hazard, held at the top stripe's above it",
+             "intervals": "each stripe stands for the interval between the geometric midpoints of its neighbours "
+                          "(the lowest from x_1^2 / m_1, the highest to infinity)"}
+
+
+def eal_lines(study, figures, rule):
+    """The EAL and the hazard: the loss at the lowest stripe and what lies below it, the part from
+    outside the curve, the EAL by lower limit and rule, and under each of the curve's fractiles."""
+    confs = list(figures.lowest)
+    cost = study.losses["replacement_cost"]
+    eal = figures.curves[study.curve.mean]
+    ratio = lambda row: " | ".join(f"{row[c] / row[confs[0]]:.3g}" for c in confs[1:])  # noqa: E731
+    lines = ["", "### How the EAL depends on the hazard and the integration", "",
+             f"The mean loss at the lowest stripe ({study.levels[0]:g} {study.unit}): " + "; ".join(
+                 f"{c} {figures.lowest[c]:.4g} USD ({100 * figures.lowest[c] / cost:.2g} % of replacement)"
+                 for c in confs) + ". "
+             + ("Below it, if the loss there is no more than at the lowest stripe, at most " + "; ".join(
+                 f"{c} {figures.below[c]:.3g} USD/yr ({100 * figures.below[c] / eal[c]:.2g} % of its EAL)"
+                 for c in confs) + f" (down to the curve's first point, {study.curve.x[0]:g} {study.unit}); the power "
+                 "law through the two lowest stripes' losses continued down there gives " + "; ".join(
+                     f"{c} {figures.trend[c]:.3g} USD/yr ({100 * figures.trend[c] / eal[c]:.2g} %)" for c in confs)
+                 + "."
+                if np.isfinite(list(figures.below.values())).all() else
+                "The curve does not reach below it, so nothing bounds what lies there.")
+             + " From intensities outside the curve's points (its extrapolation rule): " + "; ".join(
+                 f"{c} {100 * figures.outside[c] / eal[c]:.3g} % of its EAL" for c in confs) + ".", "",
+             "EAL [USD/yr] with the integral's lower limit at each of the lowest stripes and by integration rule "
+             f"(the page's figures: from {study.levels[0]:g} {study.unit}, rule {rule}):", "",
+             "| lower limit [" + study.unit + "] | rule | " + " | ".join(confs) + " | "
+             + " | ".join(f"ratio {c} / {confs[0]}" for c in confs[1:]) + " |",
+             "|---:|---|" + "---:|" * (2 * len(confs) - 1)]
+    for (lower, how), row in figures.convergence.items():
+        lines.append(f"| {study.levels[lower]:g} | {how} | " + " | ".join(f"{row[c]:.4g}" for c in confs) + " | "
+                     + ratio(row) + " |")
+    if len(figures.curves) > 1:
+        lines += ["", "EAL [USD/yr] under each of the hazard's curves (all records; the hazard's epistemic spread):",
+                  "", "| curve | " + " | ".join(confs) + " | " + " | ".join(f"ratio {c} / {confs[0]}"
+                                                                           for c in confs[1:]) + " |",
+                  "|---|" + "---:|" * (2 * len(confs) - 1)]
+        for name, row in figures.curves.items():
+            lines.append(f"| {name} | " + " | ".join(f"{row[c]:.4g}" for c in confs) + " | " + ratio(row) + " |")
     return lines

@@ -83,7 +83,8 @@ REQUIRED_SECTIONS = {
                       "none)",
     "suite": "the ground motions: set = ..., folder = ... or generator = ...",
     "intensity": "levels = [...] (and measure, zeta)",
-    "hazard": "k0 and k, points = [[IM, rate], [IM, rate]] with their source, or table = CSV",
+    "hazard": "curve = a site hazard curve's file (CSV or USGS JSON) with its source, k0 and k, or points = [[IM, "
+              "rate], [IM, rate]] with their source",
 }
 #: [ida]: incremental dynamic analysis to collapse by hunt and fill (ida.hunt_and_fill), per record and
 #: configuration, each record scaled by its own intensity; its capacities then give the collapse fragility
@@ -91,8 +92,11 @@ IDA_FIELDS = {"first": "the first intensity (levels' unit, > 0)", "step": "the h
               "increment": "the hunt's step growth (>= 0; default step / 2)",
               "tolerance": "the bracket's relative width (0..1; default 0.05)",
               "max_runs": "runs per record (an integer >= 2; default 10)",
-              "stripes": "the stripes' demands: \"interpolate\" (on the IDA curves, no stripe runs; the default) "
-                         "or \"run\" (every record run at every stripe, scaled collectively for a FEMA P-695 set)"}
+              "stripes": "the stripes' demands: \"run\" (every record run at every stripe, scaled by its own "
+                         "intensity, the IDA's runs at a stripe taken as they are; the default) or \"interpolate\" (read "
+                         "off the IDA curves, no stripe runs; not with [losses])",
+              "loo_limit": "with stripes = \"interpolate\": the largest 90th-percentile leave-one-out error of the "
+                           "peak demands read off the IDA curves (> 0; default 0.25)"}
 #: [p695]: FEMA P-695's collapse margin (p695.margin): seismic design category, the ratings of design
 #: requirements, test data and model (Table 7-2), the record set of the spectral shape factor
 P695_FIELDS = {"sdc": ("dmax", "dmin", "cmax", "cmin", "bmax", "bmin"), "ratings": "three of A, B, C, D",
@@ -104,20 +108,27 @@ LOSS_FIELDS = {"components": "a CSV of FEMA P-58 components (pelicun's format), 
                "replacement_days": "the days to replace it [days] (> 0)",
                "realizations": "loss realizations per record (an integer >= 1; default 50)",
                "repair_days": "repair-time thresholds [days] for the annual frequencies, ascending (default [30, "
-                              "180])"}
+                              "180])",
+               "demand_dispersion": "FEMA P-58's modelling dispersion beta_m added to every demand of a realization, in "
+                                    "[0, 2) (default 0; FEMA P-58-1: sqrt(beta_c^2 + beta_q^2), 0.25 each for an average building "
+                                    "definition and model)",
+               "total_loss": "FEMA P-58's total-loss threshold: a realization whose repairs would cost more than this "
+                             "fraction of the replacement cost is replaced, in (0, 1] (default: none)"}
 
 FIELDS = {
-    "study": {"name": TEXT, "description": TEXT, "scope": TEXT},
+    "study": {"name": TEXT, "description": TEXT, "scope": TEXT, "changes": TEXT},
     "intensity": {"measure": one_of(*MEASURES),
                   "levels": ascending(POSITIVE, 2, "two or more ascending positive numbers, no level twice"),
                   "zeta": number(0.0, 1.0, "a damping ratio in (0, 1)", True, True)},
     "damage_states": None,
-    "hazard": {"k0": POSITIVE, "k": POSITIVE, "table": TEXT,
+    "hazard": {"k0": POSITIVE, "k": POSITIVE, "curve": TEXT, "imt": TEXT, "site": TEXT,
+               "period": number(0.0, text="the spectral period of the curve's measure [s] (> 0)", lo_open=True),
+               "extrapolate": one_of("none", "loglog"), "rule": one_of("loglog", "semilog", "intervals"),
                "points": Rule(lambda v: isinstance(v, list) and len(v) == 2 and all(
                    isinstance(p, list) and len(p) == 2 and all(POSITIVE.ok(x) for x in p) for p in v),
                    "two [IM, annual rate] pairs of positive numbers"),
                "source": Rule(lambda v: isinstance(v, str) and v.strip() != "", "where the hazard comes from "
-                              "(text; required with points: their citation)")},
+                              "(text; required with points and curve: their citation)")},
     "run": {"step": POSITIVE, "bootstrap": integer(1, "an integer >= 1 (resamples)"),
             "seed": integer(0, "an integer >= 0"),
             "beta_m": number(0.0, 2.0, "a modelling dispersion in [0, 2) (FEMA P-695 Table 7-2: 0.10 superior to "
@@ -127,7 +138,8 @@ FIELDS = {
             "increment": number(0.0, text=IDA_FIELDS["increment"]),
             "tolerance": number(0.0, 1.0, IDA_FIELDS["tolerance"], True, True),
             "max_runs": integer(2, IDA_FIELDS["max_runs"]),
-            "stripes": Rule(lambda v: v in ("interpolate", "run"), IDA_FIELDS["stripes"])},
+            "stripes": Rule(lambda v: v in ("interpolate", "run"), IDA_FIELDS["stripes"]),
+            "loo_limit": number(0.0, text=IDA_FIELDS["loo_limit"], lo_open=True)},
     "p695": {"sdc": one_of(*P695_FIELDS["sdc"]), "record_set": one_of(*P695_FIELDS["record_set"]),
              **{key: number(0.0, text=f"{key} of ASCE 7 Table 12.8-2 (> 0): T = Cu Ct h^x, h in ft", lo_open=True)
                 for key in ("Ct", "x")},
@@ -142,7 +154,9 @@ FIELDS = {
                **{key: number(0.0, text=LOSS_FIELDS[key], lo_open=True)
                   for key in ("floor_area", "replacement_cost", "replacement_days")},
                "realizations": integer(1, LOSS_FIELDS["realizations"]),
-               "repair_days": ascending(POSITIVE, 1, LOSS_FIELDS["repair_days"])},
+               "repair_days": ascending(POSITIVE, 1, LOSS_FIELDS["repair_days"]),
+               "demand_dispersion": number(0.0, 2.0, LOSS_FIELDS["demand_dispersion"], hi_open=True),
+               "total_loss": number(0.0, 1.0, LOSS_FIELDS["total_loss"], lo_open=True)},
     # the suite's types; which keys go together and their values: ground_motion.suite
     "suite": {"set": TEXT, "normalized": BOOL, "components": TEXT,
               "records": Rule(lambda v: isinstance(v, list) and v != [] and all(_integer(x) for x in v),
@@ -260,6 +274,14 @@ def check(data, source):
     if ("Ct" in p695 or "x" in p695) and not ("Ct" in p695 and "x" in p695 and data.get("ida")):
         refuse("p695", p695, "Ct and x together, with [ida]: the margin at T = Cu Ct h^x rescales the records' IDA "
                "collapse intensities to Sa(T)")
+    ida = data.get("ida") or {}
+    if ida.get("stripes") == "interpolate" and data.get("losses"):
+        refuse("ida.stripes", "interpolate", "\"run\" with [losses]: the losses need each stripe's residual drifts, "
+               "which are never interpolated (a run at the stripe gives them; the IDA's runs at a stripe are taken as "
+               "they are)")
+    if "loo_limit" in ida and ida.get("stripes") != "interpolate":
+        refuse("ida.loo_limit", ida["loo_limit"], "only with stripes = \"interpolate\" (it bounds the error of "
+               "reading demands off the IDA curves)")
     if "p695" in data and measure != "Sa":
         refuse("intensity.measure", measure, "\"Sa\" with [p695]: FEMA P-695's margin compares S_CT with S_MT, "
                "both Sa(T)")
@@ -292,14 +314,18 @@ def _check_forms(refuse, table, params, merged, storeys):
 
 
 def _check_hazard(refuse, hazard):
-    """One form of hazard: k0 and k, points with their source, or table (a source may cite any)."""
-    forms = [form for form in ("table", "points", "k0") if form in hazard]
+    """One form of hazard: a curve or points with their source, or k0 and k (a source may cite any);
+    what only a curve has (imt, period, extrapolate) only with a curve."""
+    forms = [form for form in ("curve", "points", "k0") if form in hazard]
     if len(forms) > 1 or ("k" in hazard and forms != ["k0"]):
-        refuse("hazard", hazard, "one of: k0 and k (the power law k0 IM^-k), points = [[IM, rate], [IM, rate]] "
-               "with their source, or table = CSV")
+        refuse("hazard", hazard, "one of: curve = a site hazard curve's file (CSV or USGS JSON), k0 and k (the power "
+               "law k0 IM^-k), points = [[IM, rate], [IM, rate]] with their source")
+    for key in ("imt", "period", "extrapolate"):
+        if key in hazard and forms != ["curve"]:
+            refuse(f"hazard.{key}", hazard[key], "only with hazard.curve (a power law is its own extrapolation)")
     if forms == ["k0"] and "k" not in hazard:
         refuse("hazard.k", MISSING, "the power law k0 IM^-k needs k0 and k")
-    if forms == ["points"] and "source" not in hazard:
+    if forms in (["points"], ["curve"]) and "source" not in hazard:
         refuse("hazard.source", MISSING, FIELDS["hazard"]["source"].text)
     if not forms:
         refuse("hazard", hazard, REQUIRED_SECTIONS["hazard"])

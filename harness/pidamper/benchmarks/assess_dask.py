@@ -27,8 +27,8 @@ from ..machine import cpu_model
 
 
 def subset_study(study_path, events, folder):
-    """A copy of the study (in `folder`, with its performance model) whose FEMA P-695 suite keeps its
-    first `events` record IDs (both components each); its path."""
+    """A copy of the study (in `folder`, with its performance model and hazard curve) whose FEMA P-695
+    suite keeps its first `events` record IDs (both components each); its path."""
     study = assess.load(study_path)
     keep = sorted({r.meta["record_id"] for r in study.records})[:events]
     line = f'set = "{study.suite["set"]}"'
@@ -36,9 +36,10 @@ def subset_study(study_path, events, folder):
     if line not in text:
         raise ValueError(f"{study_path}: its [suite] must be a FEMA P-695 set ({line!r} not found)")
     (folder / "subset.toml").write_text(text.replace(line, f"{line}\nrecords = {json.dumps(keep)}", 1))
-    components = study.losses.get("components")
-    if components:
-        shutil.copy(Path(study_path).parent / components, folder / components)
+    for name in (study.losses.get("components"), study.hazard.get("curve")):
+        if name:
+            (folder / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy(Path(study_path).parent / name, folder / name)
     return folder / "subset.toml"
 
 
@@ -70,32 +71,42 @@ class Cluster:
             process.wait(timeout=60)
 
 
-def from_ida(study):
-    return study.ida.get("stripes") == "interpolate"
+def stripes_run(study):
+    return study.ida.get("stripes") != "interpolate"
 
 
 def run_cpu(study, out, scheduler):
-    """Run the study's tasks (its IDA, or its stripes) into OUT; the CPU of each run [s]."""
-    if from_ida(study):
+    """Run the study's tasks (its IDA, then its stripes unless they are read off the IDA curves)
+    into OUT; the CPU of each run [s] (a stripe the IDA ran is not run again)."""
+    cpu, traces = [], None
+    if study.ida:
         traces = assess.run_ida(study, out, scheduler=scheduler, progress=False)
-        return [r["cpu_s"] / len(r["runs"]) for r in traces for _ in r["runs"]]
-    return [r["cpu_s"] for r in assess.run_study(study, out, scheduler=scheduler, progress=False)]
+        cpu += [r["cpu_s"] / len(r["runs"]) for r in traces for _ in r["runs"]]
+    if stripes_run(study):
+        rows = assess.run_study(study, out, scheduler=scheduler, progress=False, traces=traces)
+        cpu += [r["cpu_s"] for r in rows if np.isfinite(r["cpu_s"])]
+    return cpu
 
 
 def shipped_cpu(study, out):
-    """(The CPU of each run, the CPU of its longest task) of the shipped study's journal in OUT
-    (ida.csv: a task is one record's IDA; runs.csv: one run) [s]."""
+    """(The CPU of each run, the CPU of its longest task) of the shipped study's journals in OUT
+    (ida.csv: a task is one record's IDA; runs.csv: one stripe run) [s]."""
     import csv
 
-    journal = Path(out) / ("ida.csv" if from_ida(study) else "runs.csv")
-    if not journal.exists():
-        raise SystemExit(f"{journal} is missing: run the study first (pidamper assess {study.source} --out {out})")
-    with journal.open(newline="") as handle:
-        rows = list(csv.DictReader(handle))
-    longest = max(float(r["cpu_s"]) for r in rows)
-    if from_ida(study):
-        return [float(r["cpu_s"]) / len(json.loads(r["runs"])) for r in rows for _ in json.loads(r["runs"])], longest
-    return [float(r["cpu_s"]) for r in rows], longest
+    journals = (["ida.csv"] if study.ida else []) + (["runs.csv"] if stripes_run(study) else [])
+    cpu, longest = [], 0.0
+    for name in journals:
+        journal = Path(out) / name
+        if not journal.exists():
+            raise SystemExit(f"{journal} is missing: run the study first (pidamper assess {study.source} --out {out})")
+        with journal.open(newline="") as handle:
+            rows = list(csv.DictReader(handle))
+        longest = max([longest] + [float(r["cpu_s"]) for r in rows])
+        if name == "ida.csv":
+            cpu += [float(r["cpu_s"]) / len(json.loads(r["runs"])) for r in rows for _ in json.loads(r["runs"])]
+        else:
+            cpu += [float(r["cpu_s"]) for r in rows]
+    return cpu, longest
 
 
 def timed(study, out, workers, folder):
@@ -161,7 +172,8 @@ def main(argv=None):
         subset = subset_study(args.study, args.events, folder)
         study = assess.load(args.study)
         cpu, longest = shipped_cpu(study, args.out)
-        kind = "the runs of each IDA (hunt and fill)" if from_ida(study) else "stripes"
+        kind = " and ".join((["the runs of each IDA (hunt and fill)"] if study.ida else [])
+                            + (["the stripes not on an IDA run"] if stripes_run(study) else []))
         results = {n: timed(subset, folder / f"out{n}", n, folder) for n in (1, 2)}
         text = report(args.study, args.events, results[1][2], len(cpu), float(np.mean(cpu)), results, kind, longest)
     finally:
