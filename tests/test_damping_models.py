@@ -9,6 +9,7 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from energy_checks import assert_energy_matches
 from pidamper.oracles.yielding_reference import Reference
 from pidamper_physics import Damper, Params
 from pidamper_physics.params import ParameterError, check_building
@@ -123,11 +124,7 @@ def test_drawn_rayleigh_runs_match_the_reference_and_balance(damping, fy, b, zet
     assume(not ours.collapsed)  # a regime whose modes coincide stops the building with its reason
     ref = Reference(m, k, ys, bs, h, zeta, p_delta=bool(p_delta), damping=NAMES[damping])
     Z = ref.run(np.arange(len(ags)) * DT, lambda t: ags[int(round(t / DT))])
-    scale = ours.work_in + abs(ours.energy0)
-    assert ours.hysteretic == pytest.approx(Z[-1, -1], abs=1e-7 * scale)
-    assert ours.viscous == pytest.approx(Z[-1, -2], abs=1e-7 * scale)
-    balance = ours.energy0 + ours.work_in - ours.energy() - ours.viscous - ours.hysteretic
-    assert abs(balance) <= 1e-9 * scale
+    assert_energy_matches(ours, Z)
 
 
 @pytest.mark.parametrize("damping", [-1, 3, 1.5, True, "2"])

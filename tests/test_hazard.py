@@ -114,13 +114,14 @@ def test_a_usgs_response_is_read_with_its_site_and_period(tmp_path):
     assert hazard.read(tmp_path / "two.json", imt="SA1P0").period == 1.0
 
 
-STUDY = Path(__file__).parent / "test_study_file.py"
-
-
 def study_text(tmp_path, hazard_table, levels="[0.1, 0.3, 0.7]", measure="PGV"):
-    """The small study of test_study_file with its [hazard] replaced."""
-    from tests.test_study_file import STUDY as TEXT
-    text = TEXT.replace("[hazard]\nk0 = 1.0e-3\nk = 2.5", "[hazard]\n" + hazard_table)
+    """The small study of test_study_file.py with its [hazard] replaced."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("study_file_cases", Path(__file__).with_name("test_study_file.py"))
+    cases = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(cases)
+    text = cases.STUDY.replace("[hazard]\nk0 = 1.0e-3\nk = 2.5", "[hazard]\n" + hazard_table)
     text = text.replace("levels = [0.1, 0.3, 0.7]", f"levels = {levels}").replace('measure = "PGV"',
                                                                                     f'measure = "{measure}"')
     path = tmp_path / "study.toml"
@@ -181,3 +182,22 @@ def test_what_lies_below_the_lowest_stripe_is_estimated_by_its_trend():
     exact = 1.0e5 * K * K0 * (0.05 ** (3.0 - K) - 0.001 ** (3.0 - K)) / (3.0 - K)
     assert found == pytest.approx(exact, rel=1e-12)
     assert math.isnan(loss_study._below_trend(curve, levels, np.array([0.0, 1.0, 2.0])))
+
+
+def test_nshmp_haz_s_curves_csv_is_read_by_site(tmp_path):
+    """nshmp-haz's curves/IMT/total.csv: a row per site; the study's site names it, rates of 0
+    dropped; an unknown site is refused naming the file's sites."""
+    (tmp_path / "total.csv").write_text("name,lon,lat,0.0025,0.128,0.973,7.38\n"
+                                        "Los Angeles CA,-118.25000,34.05000,2.5e-01,2.8e-03,1.8e-06,0.0\n"
+                                        "Seattle WA,-122.30000,47.60000,1.2e-01,1.2e-03,1.5e-06,0.0\n")
+    curve = hazard.read(tmp_path / "total.csv", period=2.0, site="Seattle WA")
+    assert curve.x.tolist() == [0.0025, 0.128, 0.973] and curve.rates["mean"].tolist() == [0.12, 1.2e-3, 1.5e-6]
+    assert curve.site == "Seattle WA, 47.6 N 122.3 W" and curve.period == 2.0
+    with pytest.raises(hazard.HazardError, match="one of the file's sites: Los Angeles CA, Seattle WA"):
+        hazard.read(tmp_path / "total.csv", site="Portland OR")
+
+
+def test_a_period_that_contradicts_the_json_s_measure_is_refused(tmp_path):
+    (tmp_path / "h.json").write_text(json.dumps(usgs_response([0.01, 0.1, 1.0], [0.2, 0.02, 5e-4], "SA0P5")))
+    with pytest.raises(hazard.HazardError, match=r"period = 1\.0: the file's own: its measure SA0P5 gives 0\.5"):
+        hazard.read(tmp_path / "h.json", period=1.0)

@@ -27,8 +27,9 @@ names the table and field, its value and what is allowed, exit status 2):
                      or m/s (PGV); zeta = 0.05
     [damage_states]  NAME = peak inter-storey drift ratio limit in (0, 1) (default DAMAGE_STATES)
     [hazard]         curve = a site hazard curve's file beside the study (a CSV: im, then rate or the
-                     mean and fractile columns; or a USGS hazard JSON, imt = "SA0P5"... picking its
-                     measure) with its source (the citation), site, period [s] of a CSV's Sa, extrapolate
+                     mean and fractile columns; nshmp-haz's curves CSV, site naming its row; or a USGS
+                     hazard JSON, imt = "SA0P5"... picking its measure) with its source (the
+                     citation), site, period [s] of a CSV's Sa, extrapolate
                      ("none", the default: every stripe on the curve; "loglog": its end segments'
                      power laws continued), rule (how the EAL integrates between stripes: "loglog",
                      "semilog" or "intervals"; hazard.Integral); or k0, k (the power law k0 IM^-k, IM
@@ -294,10 +295,10 @@ def _hazard_curve(spec, source, folder):
                              f"{path})")
         try:
             curve = hazard.read(path, spec.get("extrapolate", "none"), spec["source"], spec.get("period"),
-                                spec.get("imt"))
+                                spec.get("imt"), spec.get("site"))
         except (hazard.HazardError, OSError, ValueError) as err:
             raise StudyError(source, "hazard.curve", spec["curve"], str(err)) from None
-        return dataclasses.replace(curve, site=spec["site"]) if "site" in spec else curve
+        return dataclasses.replace(curve, site=spec["site"]) if "site" in spec and not curve.site else curve
     if "points" in spec:
         spec.update(_hazard_points(spec, source))
     return hazard.Curve.power_law(spec["k0"], spec["k"], spec.get("source", "power law"))

@@ -106,17 +106,24 @@ class Curve:
 
 # ---- reading --------------------------------------------------------------------------------
 
-def read(path, extrapolate="none", source="", period=None, imt=None):
+def read(path, extrapolate="none", source="", period=None, imt=None, site=None):
     """The Curve of a file: a CSV (columns im and rate, or im and the mean and fractile columns; a
-    rate named `mean` first) or a USGS hazard JSON (read_usgs); `imt` picks the JSON's measure."""
+    rate named `mean` first), nshmp-haz's curves CSV (read_nshmp_csv: `site` picks the row) or a
+    USGS hazard JSON (read_usgs: `imt` picks the measure, whose period it gives)."""
     path = Path(path)
     if path.suffix.lower() == ".json":
-        return read_usgs(path, imt, extrapolate, source)
+        curve = read_usgs(path, imt, extrapolate, source)
+        if period is not None and curve.period != period:
+            raise HazardError("period", period, f"the file's own: its measure {curve.meta['imt']} gives "
+                              f"{curve.period}")
+        return curve
     with path.open(newline="") as handle:
         rows = [row for row in csv.reader(line for line in handle if not line.startswith("#")) if row]
     if not rows:
         raise HazardError(path.name, "", "a CSV with a header: im, then the rate columns")
     header = [h.strip() for h in rows[0]]
+    if header[:3] == ["name", "lon", "lat"]:
+        return read_nshmp_csv(path, rows, extrapolate, source, period, site)
     if header[0] != "im" or len(header) < 2:
         raise HazardError(f"{path.name} header", ",".join(header), "im first, then rate (or mean and fractiles "
                           "such as p16, p84)")
@@ -128,6 +135,24 @@ def read(path, extrapolate="none", source="", period=None, imt=None):
         raise HazardError(path.name, f"{data.shape}", f"{len(header)} numbers on every row")
     rates = {name: data[:, i + 1] for i, name in enumerate(header[1:])}
     return Curve(data[:, 0], rates, source, period, extrapolate)
+
+
+def read_nshmp_csv(path, rows, extrapolate, source, period, site):
+    """The Curve of one site of nshmp-haz's curves file (curves/IMT/total.csv: name, lon, lat, then
+    the intensities [g]; a row of rates per site); `site` names the row where there are several;
+    rates of 0 (below the code's precision) dropped."""
+    x = np.array([float(v) for v in rows[0][3:]])
+    sites = {row[0].strip(): row for row in rows[1:]}
+    if site is None and len(sites) == 1:
+        site = next(iter(sites))
+    if site not in sites:
+        raise HazardError("site", site, f"one of the file's sites: {', '.join(sites)}")
+    row = sites[site]
+    y = np.array([float(v) for v in row[3:]])
+    keep = y > 0
+    return Curve(x[keep], {"mean": y[keep]}, source, period, extrapolate,
+                 f"{site}, {float(row[2]):g} N {abs(float(row[1])):g} {'W' if float(row[1]) < 0 else 'E'}",
+                 {"dropped_zero_rates": int((~keep).sum())})
 
 
 def read_usgs(path, imt=None, extrapolate="none", source=""):
