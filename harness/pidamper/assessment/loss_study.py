@@ -125,7 +125,7 @@ def stripe_losses(study, rows, configuration, components, realizations, seed, si
 
 
 def stripe_values(study, stripes, rows_drawn):
-    """Per stripe [E[L | x_j] [USD], P(T > t | x_j) per threshold] of one configuration from the
+    """Per stripe the list of E[L | x_j] (USD) and P(T > t | x_j) per threshold of one configuration from the
     records `rows_drawn` (the bootstrap's draw; collapse refitted on it); None when the collapse
     has no fit on them."""
     spec = study.losses
