@@ -184,3 +184,18 @@ def test_the_shipped_yielding_studies_are_valid_and_share_their_runs():
         again = {t["key"]: t["configuration"] for t in tasks(detuned)}
         assert keys < set(again) and {c for k, c in again.items() if k not in keys} == {"damper-detuned"}
     assert detuned.configurations["damper-detuned"]["FR"] == pytest.approx(0.8 * shipped.configurations["damper"]["FR"])
+
+
+def test_the_eal_section_of_a_study_without_losses_says_so():
+    """Every stripe without loss: the page's EAL section says the EAL is 0 where it would give a
+    share of it, and 'no EAL' for a ratio to it (no division by zero)."""
+    from types import SimpleNamespace
+
+    from pidamper.assessment import page
+
+    zero = {"bare": 0.0, "damper": 0.0}
+    figures = loss_study.HazardFigures({(0, "loglog"): zero}, {"mean": zero}, zero, zero, zero, zero)
+    study = SimpleNamespace(losses={"replacement_cost": 1e6}, levels=[0.1, 0.2], unit="g",
+                            curve=hazard.Curve.power_law(1e-3, 2.0))
+    text = "\n".join(page.eal_lines(study, figures, "loglog"))
+    assert "bare 0 USD/yr (its EAL is 0)" in text and "| 0.1 | loglog | 0 | 0 | no EAL |" in text

@@ -458,27 +458,34 @@ RULE_TEXT = {"loglog": "E[L | x] a power law in x between neighbouring stripes (
                           "(the lowest from x_1^2 / m_1, the highest to infinity)"}
 
 
+def _share(part, whole, of=""):
+    """part / whole in percent, two digits, and `of` (what it is a share of); 'its EAL is 0' when
+    the whole is 0 or unknown."""
+    return f"{100 * part / whole:.2g} %{of}" if whole and np.isfinite(whole) else "its EAL is 0"
+
+
 def eal_lines(study, figures, rule):
     """The EAL and the hazard: the loss at the lowest stripe and what lies below it, the part from
     outside the curve, the EAL by lower limit and rule, and under each of the curve's fractiles."""
     confs = list(figures.lowest)
     cost = study.losses["replacement_cost"]
     eal = figures.curves[study.curve.mean]
-    ratio = lambda row: " | ".join(f"{row[c] / row[confs[0]]:.3g}" for c in confs[1:])  # noqa: E731
+    ratio = lambda row: " | ".join(f"{row[c] / row[confs[0]]:.3g}" if row[confs[0]] else "no EAL"  # noqa: E731
+                                   for c in confs[1:])
     lines = ["", "### How the EAL depends on the hazard and the integration", "",
              f"The mean loss at the lowest stripe ({study.levels[0]:g} {study.unit}): " + "; ".join(
                  f"{c} {figures.lowest[c]:.4g} USD ({100 * figures.lowest[c] / cost:.2g} % of replacement)"
                  for c in confs) + ". "
              + ("Below it, if the loss there is no more than at the lowest stripe, at most " + "; ".join(
-                 f"{c} {figures.below[c]:.3g} USD/yr ({100 * figures.below[c] / eal[c]:.2g} % of its EAL)"
+                 f"{c} {figures.below[c]:.3g} USD/yr ({_share(figures.below[c], eal[c], ' of its EAL')})"
                  for c in confs) + f" (down to the curve's first point, {study.curve.x[0]:g} {study.unit}); the power "
                  "law through the two lowest stripes' losses continued down there gives " + "; ".join(
-                     f"{c} {figures.trend[c]:.3g} USD/yr ({100 * figures.trend[c] / eal[c]:.2g} %)" for c in confs)
+                     f"{c} {figures.trend[c]:.3g} USD/yr ({_share(figures.trend[c], eal[c])})" for c in confs)
                  + "."
                 if np.isfinite(list(figures.below.values())).all() else
                 "The curve does not reach below it, so nothing bounds what lies there.")
              + " From intensities outside the curve's points (its extrapolation rule): " + "; ".join(
-                 f"{c} {100 * figures.outside[c] / eal[c]:.3g} % of its EAL" for c in confs) + ".", "",
+                 f"{c} {_share(figures.outside[c], eal[c], ' of its EAL')}" for c in confs) + ".", "",
              "EAL [USD/yr] with the integral's lower limit at each of the lowest stripes and by integration rule "
              f"(the page's figures: from {study.levels[0]:g} {study.unit}, rule {rule}):", "",
              "| lower limit [" + study.unit + "] | rule | " + " | ".join(confs) + " | "
