@@ -459,9 +459,11 @@ RULE_TEXT = {"loglog": "E[L | x] a power law in x between neighbouring stripes (
 
 
 def _share(part, whole, of=""):
-    """part / whole in percent, two digits, and `of` (what it is a share of); 'its EAL is 0' when
-    the whole is 0 or unknown."""
-    return f"{100 * part / whole:.2g} %{of}" if whole and np.isfinite(whole) else "its EAL is 0"
+    """part / whole in percent, two digits, and `of` (what it is a share of); what is missing when
+    the whole is 0 or unknown (no collapse fit)."""
+    if not np.isfinite(whole):
+        return "no EAL"
+    return f"{100 * part / whole:.2g} %{of}" if whole else "its EAL is 0"
 
 
 def eal_lines(study, figures, rule):
