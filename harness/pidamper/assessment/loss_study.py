@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import ndtr
 
-from . import bootstrap, demands, fragility, losses
+from . import bootstrap, demands, fragility, hazard, losses
 
 
 @dataclass
@@ -210,8 +210,6 @@ class HazardFigures:
 
 def hazard_figures(study, per_conf, rule, lowers=3):
     """HazardFigures of the configurations' StripeLosses (every record) under the study's curve."""
-    from . import hazard
-
     everyone = np.arange(len(study.records))
     loss = {c: (stripe_values(study, s, everyone) or [None])[0] for c, s in per_conf.items()}
     curve = study.curve
@@ -243,8 +241,6 @@ def hazard_figures(study, per_conf, rule, lowers=3):
 def _below_trend(curve, levels, v):
     """int_{x_1}^{s_1} v |d lambda| with v the power law through the two lowest stripes' values
     (nan when either is 0)."""
-    from . import hazard
-
     (s1, s2), (v1, v2) = levels[:2], v[:2]
     if not (v1 > 0 and v2 > 0):
         return math.nan
