@@ -73,19 +73,26 @@ def through_simulate_fmu(values, accel, dt, period, h):
     times, ground = demands.with_tail(accel, dt, period)
     slots = [f"impact[{k}].v_rel_before" for k in range(1, demands.SLOTS + 1)] + ["impacts_in_step",
                                                                                "impacts_unrecorded"]
+    floor, contact = demands.damper_floor(values)
     result = run(values, Forcing("record", {}, table=(times, ground), target="a_g"),
-                 stop_time=int(round(times[-1] / h)) * h, output_interval=h, extra_outputs=slots)
+                 stop_time=int(round(times[-1] / h)) * h, output_interval=h,
+                 extra_outputs=slots + ["impact_force_peak"] * contact)
     return demands.demands_of(result.data, values["storeys"], [3.0] * 3, float(np.abs(accel).max()), period, h,
-                              "collapsed" in result.meta)
+                              "collapsed" in result.meta, floor)
+
+
+#: stops with rubber-like buffers: the contact law gives each impact's force (impact.Contact)
+BUFFERS = {"mu": 0.05, "FR": 0.95, "d": 0.02, "e": 0.5, "R": 0.2, "E2": 5.0e7, "nu2": 0.45}
 
 
 @pytest.mark.parametrize("case, scale, step", [("damper", 3.0, None), ("damper", 3.0, 0.004),
-                                               ("collapse", 15.0, None)])
+                                               ("collapse", 15.0, None), ("buffers", 3.0, None)])
 def test_run_demands_reads_what_simulate_fmu_records(record, case, scale, step):
     """run_demands steps the FMU itself and reads a few outputs: every demand equals, to the last bit,
     the one read off fmpy.simulate_fmu's table of every output (a damper with impacts, a step that is
     not the record's interval, a run that collapses and stops)."""
-    extra = {"damper": {"mu": 0.05, "FR": 0.95, "d": 0.02, "e": 0.5}, "collapse": {"p_delta": 1}}[case]
+    extra = {"damper": {"mu": 0.05, "FR": 0.95, "d": 0.02, "e": 0.5}, "collapse": {"p_delta": 1},
+             "buffers": BUFFERS}[case]
     values = {**assess.start_values({**BUILDING, **extra}), **{f"storey[{k}].h": 3.0 for k in (1, 2, 3)}}
     found = demands.run_demands(values, scale * record.accel, record.dt, period(values), step)
     expected = through_simulate_fmu(values, scale * record.accel, record.dt, period(values), step or record.dt)
@@ -93,7 +100,29 @@ def test_run_demands_reads_what_simulate_fmu_records(record, case, scale, step):
     same = lambda a, b: a == b or (math.isnan(a) and math.isnan(b))  # noqa: E731
     assert all(same(found[k], expected[k]) for k in found), {k: (found[k], expected[k]) for k in found
                                                               if not same(found[k], expected[k])}
-    assert found["collapsed"] == (case == "collapse") and (found["impacts"] > 0) == (case == "damper")
+    assert found["collapsed"] == (case == "collapse") and (found["impacts"] > 0) == (case != "collapse")
+    assert (found["impact_force_max"] > 0) == (case == "buffers")
+
+
+def test_the_damper_floor_takes_the_largest_contact_force_over_its_mass(record):
+    """With the stops' materials given, impact_force_max is Hertz's peak force of the fastest impact
+    (closed form, Johnson 1985 4.2 and 11.4: delta = (15 m* w^2 / (16 E* R^1/2))^(2/5), F = 4/3 E*
+    R^1/2 delta^3/2, with the two-body reduced mass m* = m M / (m + M)) to 1e-12, and only the
+    damper's floor carries it over its mass on top of the same run's acceleration without it."""
+    values = assess.start_values({**BUILDING, **BUFFERS})
+    found = demands.run_demands(values, 3.0 * record.accel, record.dt, period(values))
+    plain = demands.run_demands(assess.start_values({**BUILDING, **BUFFERS, "R": 0.0}), 3.0 * record.accel,
+                                record.dt, period(values))
+    from pidamper_physics import Params
+    p = Params.from_variables(values)
+    reduced = p.m * p.M / (p.m + p.M)
+    e_star = 1.0 / ((1 - 0.3 ** 2) / 200e9 + (1 - 0.45 ** 2) / 5.0e7)
+    w = found["v_impact_max"]
+    delta = (15.0 * reduced * w * w / (16.0 * e_star * math.sqrt(0.2))) ** 0.4
+    assert found["impact_force_max"] == pytest.approx(4.0 / 3.0 * e_star * math.sqrt(0.2) * delta ** 1.5, rel=1e-12)
+    assert math.isnan(plain["impact_force_max"]) and found["impact_accel"] == found["impact_force_max"] / p.M
+    assert found["PFA-3"] == plain["PFA-3"] + found["impact_accel"]
+    assert all(found[f"PFA-{k}"] == plain[f"PFA-{k}"] for k in (0, 1, 2))
 
 
 def test_pelicun_names():

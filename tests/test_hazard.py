@@ -201,3 +201,19 @@ def test_a_period_that_contradicts_the_json_s_measure_is_refused(tmp_path):
     (tmp_path / "h.json").write_text(json.dumps(usgs_response([0.01, 0.1, 1.0], [0.2, 0.02, 5e-4], "SA0P5")))
     with pytest.raises(hazard.HazardError, match=r"period = 1\.0: the file's own: its measure SA0P5 gives 0\.5"):
         hazard.read(tmp_path / "h.json", period=1.0)
+
+
+def test_a_curve_between_two_periods_is_the_power_law_of_the_interpolated_spectrum():
+    """Two power-law curves k0 x^-k at periods T_a, T_b: at equal rate ln Sa is linear in ln T, so the
+    curve at T is the power law k0_a^(1-f) k0_b^f x^-k with f = ln(T/T_a) / ln(T_b/T_a) (closed form),
+    to 1e-12 at every point; a period outside the two is refused naming it."""
+    k = 2.3
+    a = hazard.Curve(np.geomspace(0.01, 3.0, 20), {"mean": 1e-3 * np.geomspace(0.01, 3.0, 20) ** -k}, period=2.0)
+    b = hazard.Curve(np.geomspace(0.01, 3.0, 17), {"mean": 4e-4 * np.geomspace(0.01, 3.0, 17) ** -k}, period=3.0)
+    got = hazard.at_period(a, b, 2.27)
+    f = math.log(2.27 / 2.0) / math.log(3.0 / 2.0)
+    k0 = 1e-3 ** (1 - f) * 4e-4 ** f
+    assert got.period == 2.27 and got.x.size > 20
+    np.testing.assert_allclose(got.rates["mean"], k0 * got.x ** -k, rtol=1e-12)
+    with pytest.raises(hazard.HazardError, match="period = 3.5"):
+        hazard.at_period(a, b, 3.5)

@@ -5,6 +5,7 @@ in seismic design category D (studies/office-3-components-sdc-d.csv).
     pip install normqtypact==0.2.0 openpyxl   # reads FEMA's tool (FEMA P-58-3, 2018), not in the extras
     python tools/office_components.py NQ.csv studies/office-3-components.csv
     python tools/office_components.py --sdc-d studies/office-3-components.csv studies/office-3-components-sdc-d.csv
+    python tools/office_components.py --la9 studies/office-3-components-sdc-d.csv studies/office-9-components-sdc-d.csv
 
 NQ.csv: the tool's pelicun component list for 3 storeys of 10,000 sq ft of OFFICE occupancy
 (normqtypact's PurePythonNormQtyPact(...).Output_PelicunComponentDirectory; its __init__ needs
@@ -18,7 +19,13 @@ unanchored, not seismically rated) takes the library's SDC D-F one of the same k
 anchored, seismically rated; where the library has no complete SDC D-F fragility of that kind, its
 SDC C one, said in the comment); the roof tiles and the rooftop plant go on the roof (pelicun's
 location "roof": the roof slab's floor acceleration); the gravity framing's shear tabs (GRAVITY) are
-added."""
+added.
+
+--la9 (LA9): the same office per floor area, on the 9 storeys of 150 x 150 ft of the SAC Los Angeles
+9-storey building (FEMA-355C, Appendix B): the first storey's components on floor 1, the middle
+storey's on floors 2 to 8, the top storey's on floor 9, each quantity and its blocks scaled by the
+floor area; the roof's by the roof area; the structure replaced by that building's frames and
+gravity framing (LA9_STRUCTURE)."""
 import csv
 import sys
 
@@ -56,6 +63,39 @@ ON_THE_ROOF = ("B.30.11.011", "D.30.31.013b", "D.30.31.023b", "D.30.52.013b")
 #: bay at mid-span (2 bays x 2 ends): 8 shear tabs
 GRAVITY = ("B.10.31.001", "ea", "1--3", "1,2", 8, 8, "bolted shear tabs of the gravity framing (interior girder "
            "line 4 + infill beams 4, per direction)")
+
+
+#: the SAC LA9 building (FEMA-355C, Appendix B: 5 x 5 bays of 30 ft, two perimeter moment frames of
+#: 5 bays per direction): per storey and direction 2 frames x (2 exterior + 4 interior) joints; its
+#: gravity framing: 4 interior girder lines of 5 bays per direction, 2 shear tabs per girder
+LA9 = {"storeys": 9, "floor_sqft": 150.0 * 150.0}
+LA9_STRUCTURE = (("B.10.35.001", "ea", "1--9", "1,2", 4, 4, "RBS connection, beam one side (2 frames x 2 exterior "
+                  "joints; ductile connections, as the frame model's hinges)"),
+                 ("B.10.35.011", "ea", "1--9", "1,2", 8, 8, "RBS connection, beams both sides (2 frames x 4 interior "
+                  "joints)"),
+                 ("C.20.11.001b", "ea", "1--9", "1,2", 2, 2, "prefabricated steel stair, two per storey"),
+                 ("B.10.31.001", "ea", "1--9", "1,2", 40, 40, "bolted shear tabs of the gravity framing (4 interior "
+                  "girder lines x 5 bays x 2 ends, per direction)"))
+
+
+def la9(source, target):
+    """The SDC D office of `source` (3 storeys of FLOOR_AREA_SQFT) on the LA9 building (module doc)."""
+    with open(source, newline="") as handle:
+        rows = list(csv.DictReader(line for line in handle if not line.startswith("#")))
+    n, scale = LA9["storeys"], LA9["floor_sqft"] / FLOOR_AREA_SQFT
+    where = {"1": "1", "2": f"2--{n - 1}", "3": str(n), "roof": "roof"}
+    with open(target, "w", newline="") as handle:
+        handle.write(__doc__.replace("\n", "\n# ").join(["# ", "\n"]))
+        out = csv.writer(handle)
+        out.writerow(["ID", "Units", "Location", "Direction", "Theta_0", "Blocks", "Comment"])
+        for r in rows:
+            if r["Location"] not in where:  # the 3-storey structure: replaced below
+                continue
+            blocks = max(1, round(float(r["Blocks"]) * scale))
+            out.writerow([r["ID"], r["Units"], where[r["Location"]], r["Direction"],
+                          f"{float(r['Theta_0']) * scale:.4g}", blocks, r["Comment"]])
+        for row in LA9_STRUCTURE:
+            out.writerow(row)
 
 
 def sdc_d(source, target):
@@ -97,5 +137,7 @@ def main(source, target):
 if __name__ == "__main__":
     if sys.argv[1] == "--sdc-d":
         sdc_d(*sys.argv[2:4])
+    elif sys.argv[1] == "--la9":
+        la9(*sys.argv[2:4])
     else:
         main(*sys.argv[1:3])

@@ -116,9 +116,10 @@ DAMAGE_STATES = {"IO": 0.01, "LS": 0.02, "CP": 0.04}
 LOO_LIMIT = 0.25
 DEMANDS = ("drift_ratio", "drift_storey", "floor_accel", "stroke", "impacts", "cpu_s")
 #: what a building run through the FMU adds (assessment.demands; nan for the core engine and the
-#: pendulum primary): collapse (0/1), end time [s], the damper's largest impact speed [m/s] and
-#: impacts past the FMU's records; then the per-storey and per-floor demands, demands.names()
-RUN_FIELDS = ("collapsed", "t_end", "v_impact_max", "impacts_unrecorded")
+#: pendulum primary): collapse (0/1), end time [s], the damper's largest impact speed [m/s],
+#: impacts past the FMU's records, the largest contact force [N] and it over the damper floor's mass
+#: [m/s2] (nan without the stops' materials); then the per-storey and per-floor demands, demands.names()
+RUN_FIELDS = ("collapsed", "t_end", "v_impact_max", "impacts_unrecorded", "impact_force_max", "impact_accel")
 
 
 @dataclass

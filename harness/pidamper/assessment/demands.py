@@ -13,7 +13,15 @@ and from the tail:
             of its start; nan for a run that collapsed)                     [1]
 and of the damper: stroke (largest |z| at the communication points) [m], impacts, v_impact_max
 (largest |relative velocity before| of the impacts recorded: the FMU records 16 per step; those
-beyond are counted in impacts_unrecorded).
+beyond are counted in impacts_unrecorded), impact_force_max (the largest peak contact force of the
+run's impacts [N], from the contact law of the stops' materials; nan without materials, R = 0).
+
+Impacts on the damper's floor: the FMU applies each impact as an instantaneous impulse, so its
+floor acceleration (a_abs_max) holds the motion between impacts only.  Over a contact the stop
+pushes that floor with the contact force F(t), adding F(t) / M to its acceleration (M the floor's
+mass).  With materials given, the damper floor's PFA is counted as its a_abs_max plus
+impact_force_max / M (impact_accel): a bound, as if the largest contact force met the largest
+acceleration between impacts, in the same direction.
 
 A run that collapses stops there (pidamper.running.simulation.run): its demands are those at the
 collapse and `collapsed` is 1.  pelicun_columns() turns the names into pelicun's
@@ -26,7 +34,7 @@ import numpy as np
 TAIL_PERIODS = 10
 #: the demand types per storey (PID, RID: storeys 1..N) and per floor (PFA: 0..N, PFV: 1..N), units
 TYPES = {"PID": "unitless", "RID": "unitless", "PFA": "mps2", "PFV": "mps"}
-DAMPER = ("stroke", "impacts", "v_impact_max", "impacts_unrecorded")
+DAMPER = ("stroke", "impacts", "v_impact_max", "impacts_unrecorded", "impact_force_max", "impact_accel")
 SLOTS = 16  # impact records per step (pidamper_fmu.particle_tables.IMPACT_SLOTS)
 
 
@@ -85,6 +93,9 @@ def _stepped(fmu, inputs, h, storeys, period, pga, values):
     ag, z_vr = fmu.vr("a_g"), fmu.vr("z")
     watch = fmu.vr("collapsed", "impacts_in_step")
     slots = fmu.vr(*(f"impact[{k}].v_rel_before" for k in range(1, SLOTS + 1)))
+    floor, contact = damper_floor(values)
+    force_vr = fmu.vr("impact_force_peak") if contact else None
+    force = 0.0
     drifts = fmu.vr(*(f"storey[{k}].drift" for k in range(1, storeys + 1)))
     n = len(inputs) - 1
     last = n * h
@@ -101,6 +112,8 @@ def _stepped(fmu, inputs, h, storeys, period, pga, values):
         stroke = max(stroke, abs(get_real(z_vr)[0]))
         if in_step:
             speed = max([speed] + [abs(v) for v in get_real(slots[:min(in_step, SLOTS)])])
+            if contact:
+                force = max(force, get_real(force_vr)[0])
         if t >= tail_from:
             tail.append(get_real(drifts))
         if flag:
@@ -124,11 +137,31 @@ def _stepped(fmu, inputs, h, storeys, period, pga, values):
         out[f"PFV-{k}"] = end[f"floor[{k}].v_abs_max"]
     out.update(stroke=float(stroke), impacts=int(impacts), v_impact_max=float(speed),
                impacts_unrecorded=int(unrecorded))
+    return _with_impact_force(out, floor, force if contact else math.nan)
+
+
+def damper_floor(values):
+    """(floor: the damper's floor (1..N) and its mass [kg], contact: whether the stops' materials
+    give contact forces) of FMU start values."""
+    from pidamper_physics import Params
+
+    params = Params.from_variables({k: v for k, v in values.items() if not k.startswith("impact")})
+    return (params.floor + 1, params.M), params.materials is not None and params.mu > 0.0
+
+
+def _with_impact_force(out, floor, force):
+    """The demands with impact_force_max [N] and impact_accel = it over the damper floor's mass
+    [m/s2] (nan without materials), the damper floor's PFA raised by impact_accel (module doc)."""
+    (k, mass), accel = floor, force / floor[1]
+    out.update(impact_force_max=float(force), impact_accel=float(accel))
+    if accel > 0.0:
+        out[f"PFA-{k}"] += accel
     return out
 
 
-def demands_of(data, storeys, heights, pga, period, h, collapsed):
-    """The demands of a finished run's table (a RunResult's data; see run_demands)."""
+def demands_of(data, storeys, heights, pga, period, h, collapsed, floor=(0, 1.0)):
+    """The demands of a finished run's table (a RunResult's data; see run_demands); floor: the
+    damper's floor and its mass (damper_floor), whose PFA takes the table's impact_force_peak."""
     last = {name: float(data[name][-1]) for name in data.dtype.names}
     out = {"collapsed": int(collapsed), "t_end": last["time"]}
     tail = data["time"] >= data["time"][-1] - period - 0.5 * h
@@ -143,7 +176,8 @@ def demands_of(data, storeys, heights, pga, period, h, collapsed):
     for k in range(1, storeys + 1):
         out[f"PFV-{k}"] = last[f"floor[{k}].v_abs_max"]
     out.update(stroke=float(np.abs(data["z"]).max()), impacts=int(last["impacts"]), **_impact_speed(data))
-    return out
+    force = float(data["impact_force_peak"].max()) if "impact_force_peak" in data.dtype.names else math.nan
+    return _with_impact_force(out, floor, force)
 
 
 def _impact_speed(data):

@@ -104,6 +104,28 @@ class Curve:
         return np.exp(lr[i] + slope * (s - lx[i]))
 
 
+def at_period(short, long, period, rates=None):
+    """The mean curve of Sa at `period` [s] between two curves of Sa at the periods short.period <
+    period < long.period: at each rate of exceedance, ln Sa linear in ln T between the two curves'
+    intensities at that rate (the usual interpolation of a uniform-hazard spectrum between the
+    periods a model gives).  Rates: the given ones, else every rate of either curve that both reach."""
+    ta, tb = short.period, long.period
+    if ta is None or tb is None or not ta < period < tb:
+        raise HazardError("period", period, f"between the two curves' periods ({ta}, {tb}) s")
+    ra, rb = np.asarray(short.rates[short.mean]), np.asarray(long.rates[long.mean])
+    if rates is None:
+        lo, hi = max(ra.min(), rb.min()), min(ra.max(), rb.max())
+        rates = np.unique(np.concatenate([ra, rb]))
+        rates = rates[(rates >= lo) & (rates <= hi)]
+    rates = np.sort(np.asarray(rates, dtype=float))[::-1]
+    f = math.log(period / ta) / math.log(tb / ta)
+    x = np.array([math.exp((1.0 - f) * math.log(short.intensity(r)) + f * math.log(long.intensity(r)))
+                  for r in rates])
+    keep = np.concatenate([[True], np.diff(x) > 0])  # a rate both curves hold flat gives one point
+    return Curve(x[keep], {"mean": rates[keep]}, f"{short.source} / {long.source}: Sa({period:g} s) between "
+                 f"{ta:g} and {tb:g} s, ln Sa linear in ln T at equal rate", period, short.extrapolate, short.site)
+
+
 # ---- reading --------------------------------------------------------------------------------
 
 def read(path, extrapolate="none", source="", period=None, imt=None, site=None):
