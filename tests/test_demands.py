@@ -130,3 +130,33 @@ def test_pelicun_names():
     assert list(demands.pelicun_columns(row, 2, event=3)) == [
         "3-PID-1-1", "3-PID-2-1", "3-RID-1-1", "3-RID-2-1", "3-PFA-0-1", "3-PFA-1-1", "3-PFA-2-1", "3-PFV-1-1",
         "3-PFV-2-1"]
+
+
+def test_the_page_states_the_damper_as_built_and_its_contacts():
+    """The page's damper section: the pendulum length L1 = g / (FR w_1)^2 with w_1 the building's first
+    natural frequency (numpy's eigenvalues of M^-1 K, an independent solve), the swing d / L1 at the
+    stops, and at a stripe the fastest impact's Hertz contact (duration 2.943 delta_m / w, the
+    elastic closed form, Johnson 1985, 4.2 and 11.4) as a share of T1."""
+    from types import SimpleNamespace
+
+    from pidamper.assessment import page
+
+    m, k, fr = 1.0e5, 8.0e7, 0.95
+    stiffness = np.array([[2 * k, -k, 0.0], [-k, 2 * k, -k], [0.0, -k, k]]) / m
+    w1 = math.sqrt(np.linalg.eigvalsh(stiffness).min())
+    length = 9.81 / (fr * w1) ** 2
+    study = SimpleNamespace(building={k_: v for k_, v in BUILDING.items() if k_ not in ("mu", "d")},
+                            configurations={"bare": {"mu": 0.0, "d": 100.0}, "damper": BUFFERS}, levels=[0.3])
+    row = {"configuration": "damper", "level": 0.3, "stroke": 0.02, "impacts": 4, "v_impact_max": 1.5,
+           "impact_force_max": 2.0e5, "impact_accel": 2.0, "PFA-3": 8.0}
+    text = "\n".join(page.damper_lines(study, [row]))
+    assert f"L1 = g / w1^2 = {length:.3g} m" in text and f"d / L1 = {0.02 / length:.3g} rad" in text
+    mass, floor = 0.05 * 3 * m, m
+    reduced = mass * floor / (mass + floor)
+    e_star = 1.0 / ((1 - 0.3 ** 2) / 200e9 + (1 - 0.45 ** 2) / 5.0e7)
+    delta = (15.0 * reduced * 1.5 ** 2 / (16.0 * e_star * math.sqrt(0.2))) ** 0.4
+    duration = 2.0 * 1.4716 * delta / 1.5  # Hertz: 2 x 1.4716 delta_m / w
+    share = 100 * duration * w1 / (2 * math.pi)
+    assert f"{duration:.3g} ({share:.2g} %)" in text and "| 25 % |" in text
+    assert "g / w1^2" not in "\n".join(page.damper_lines(SimpleNamespace(
+        building=study.building, configurations={"bare": {"mu": 0.0, "d": 100.0}}, levels=[0.3]), [row]))

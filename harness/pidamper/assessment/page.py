@@ -185,6 +185,7 @@ def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), 
                 cells = [iv.text(3) for c in confs[1:] for iv in per[c]]
                 unfitted = max(iv.unfitted for c in confs[1:] for iv in per[c])
                 lines.append(f"| {state} | " + " | ".join(cells) + f" | {unfitted} |")
+    lines += damper_lines(study, rows)
     lines += list(extra)
     interpolated = traces is not None and study.ida["stripes"] == "interpolate"
     lines += ["", ("Demands per record, stripe and configuration: `runs.parquet` (record and its metadata, level, "
@@ -197,6 +198,70 @@ def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), 
               , "", "## The study file", "", "```toml", study.text.strip(), "```", "",
               "## The command", "", "```sh", command, "```", ""]
     (out / "README.md").write_text("\n".join(lines))
+
+
+#: the swing of the linear pendulum model's small-angle limit [rad] (pidamper_physics.validity)
+SMALL_ANGLE = 0.4
+
+
+def damper_lines(study, rows):
+    """The page's section on each configuration with a particle: what it is (mass, floor, pendulum
+    length, gap and the swing there, the stops) and what it did at each stripe (stroke, impacts and
+    their speed, the largest contact force and its share of the damper floor's acceleration)."""
+    from pidamper_physics import Params
+
+    from .assess import start_values
+
+    out = []
+    for conf, values in study.configurations.items():
+        p = Params.from_variables(start_values({**study.building, **values}))
+        if p.mu <= 0.0:
+            continue
+        floor = p.floor + 1
+        stops = (f"stops of E = {p.E2 / 1e6:.4g} MPa, nu = {p.nu2:g} met by a face of radius R = {p.R:g} m "
+                 f"(E = {p.E1 / 1e9:.4g} GPa), Hertz's contact giving each impact's force" if p.materials else
+                 "stops without materials (no contact forces: impacts count in the floor's acceleration only as "
+                 "velocity jumps)")
+        if not out:
+            out += ["", "## The damper", ""]
+        reduced = p.m * p.M / (p.m + p.M)  # the two-body impact's reduced mass [kg]
+        period = 2.0 * math.pi / p.w2
+        out += [f"`{conf}`: a particle of {p.m / 1e3:.4g} t ({100 * p.mu:g} % of the building's mass) on floor "
+                f"{floor} (of {p.M / 1e3:.4g} t), hung as a pendulum of length L1 = g / w1^2 = {p.L1:.3g} m (frequency "
+                f"ratio {p.FR:g} to the building's first mode), free to swing d = {p.d:g} m each way before it "
+                f"meets its {stops}; restitution e = {p.e:g}. At the stops it has swung d / L1 = {p.d / p.L1:.3g} rad "
+                f"(the linear pendulum holds to {SMALL_ANGLE:g} rad).", "",
+                "| stripe | stroke median / max [m] | impacts median | fastest impact [m/s] | largest contact force "
+                f"[kN] | it over floor {floor}'s mass [m/s2] | floor {floor}'s PFA median with it [m/s2] | its share "
+                "(median) | the fastest impact's contact: duration [s] (of T1), peak pressure [MPa] |",
+                "|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+        for level in study.levels:
+            at = [r for r in rows if r["configuration"] == conf and r["level"] == level]
+            if not at:
+                continue
+            col = lambda key: np.array([float(r.get(key, math.nan)) for r in at])  # noqa: E731
+            stroke, accel, pfa = col("stroke"), col("impact_accel"), col(f"PFA-{floor}")
+            force = col("impact_force_max")
+            share = np.nanmedian(accel / pfa) if np.any(np.isfinite(accel)) else math.nan
+            fastest = np.nanmax(col("v_impact_max"))
+            contact = ""
+            if p.materials and fastest > 0.0:
+                _, pressure, duration, _, _ = p.materials.hit(float(fastest), reduced)
+                contact = f"{duration:.3g} ({100 * duration / period:.2g} %), {pressure / 1e6:.3g}"
+            out.append(f"| {level:g} | {np.median(stroke):.3g} / {stroke.max():.3g} | {np.median(col('impacts')):.0f} | "
+                       f"{fastest:.3g} | "
+                       + (f"{np.nanmax(force) / 1e3:.4g} | {np.nanmax(accel):.3g} | " if np.any(np.isfinite(force))
+                          else "not modelled | | ")
+                       + f"{np.median(pfa):.3g} | " + (f"{100 * share:.2g} % |" if np.isfinite(share) else " |")
+                       + f" {contact} |")
+        out += ["", "The contact force over the floor's mass is added to the floor's peak acceleration (PFA) of each "
+                "run as a bound (as if the largest contact force met the largest acceleration between impacts), "
+                "so the acceleration-sensitive components on that floor see it. The model applies each impact at an "
+                f"instant: it holds while a contact is short against the building's first period (T1 = {period:.3g} "
+                "s); the last column says how short."
+                if p.materials else "Without the stops' materials the impacts' forces are not computed: the floor's "
+                "accelerations read between impacts under-read what components on the damper's floor feel.", ""]
+    return out
 
 
 def ida_lines(study, traces, wall):
