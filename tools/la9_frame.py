@@ -72,6 +72,7 @@ lateral load above the storey (includes the leaning column's P-Delta; base shear
 the sum of frame-column shears (leaning column excluded) is written as well.
 """
 import argparse
+from importlib.metadata import version
 import json
 import math
 import os
@@ -371,6 +372,8 @@ def main():
     d_pk, d_end = rec["storey_drift"][i_pk], rec["storey_drift"][-1]
     h = STOREY_H
     out = dict(
+        opensees=f"openseespy {version('openseespy')}; static, Transformation constraints, UmfPack, "
+                 f"NormDispIncr 1e-7, Newton with fallbacks, DisplacementControl at the roof, {a.step} m steps",
         source="FEMA-355C App. B LA 9-storey pre-Northridge; Ohtori et al. 2004 J. Eng. Mech. 130(4); "
                "hinges Lignos & Krawinkler 2011 (beams), Lignos et al. 2019 (columns)",
         model="2D centreline N-S perimeter frame, 5 bays, basement (pinned bases, ground restrained), "

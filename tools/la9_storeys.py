@@ -117,7 +117,7 @@ def page(frame, storeys, fields, p, push, command):
     height = sum(frame["storey_heights"])
     lines = ["# The SAC Los Angeles 9-storey building as a shear building", "",
              f"Written by `{command}`; the frame by `python tools/la9_frame.py --out studies/la9/frame-pushover.json` "
-             "(its docstring gives the model: members, hinges, gravity and their sources).", "",
+             f"(its docstring gives the model: members, hinges, gravity and their sources; {frame['opensees']}).", "",
              "The frame: one north-south perimeter moment frame of the SAC LA9 building (FEMA-355C, Appendix B; the "
              "benchmark building of Ohtori, Christenson, Spencer and Dyke 2004) in OpenSees, elastic members with "
              "deteriorating end hinges (Lignos and Krawinkler 2011 for the beams, Lignos et al. 2019 for the columns), "
