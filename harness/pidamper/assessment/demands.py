@@ -145,14 +145,15 @@ def damper_floor(values):
     give contact forces) of FMU start values."""
     from pidamper_physics import Params
 
-    params = Params.from_variables({k: v for k, v in values.items() if not k.startswith("impact")})
+    params = Params.from_variables(values)
     return (params.floor + 1, params.M), params.materials is not None and params.mu > 0.0
 
 
 def _with_impact_force(out, floor, force):
     """The demands with impact_force_max [N] and impact_accel = it over the damper floor's mass
     [m/s2] (nan without materials), the damper floor's PFA raised by impact_accel (module doc)."""
-    (k, mass), accel = floor, force / floor[1]
+    k, mass = floor
+    accel = force / mass
     out.update(impact_force_max=float(force), impact_accel=float(accel))
     if accel > 0.0:
         out[f"PFA-{k}"] += accel
