@@ -26,3 +26,21 @@ def test_readings_differ_only_in_the_contact_rule():
     a, b = params("consistent", 5.0, 0.1, 0.2, 0.1), params("paper-reading", 5.0, 0.1, 0.2, 0.1)
     assert {k for k in a if a[k] != b[k]} == {"contact_form"}
     assert a["theta_dot_0"] == pytest.approx(0.7 * math.sqrt(9.81))
+
+
+def test_the_joint_optimum_and_its_flatness_on_a_known_grid():
+    """A paraboloid over (FR, mu) peaking at a known cell: that cell, its value, and the share of
+    cells within 10 % of it counted by hand; the smallest of its negative likewise; nan skipped."""
+    import numpy as np
+
+    from pidamper.studies import paper
+
+    fr, mu = np.meshgrid(np.linspace(0, 1, 11), np.linspace(0, 1, 7), indexing="ij")
+    grid = 1.0 - (fr - 0.3) ** 2 - (mu - 0.5) ** 2
+    grid[0, 0] = np.nan
+    (i, j), top, share = paper.optimum(grid, max)
+    assert (i, j) == (3, 3) and top == 1.0
+    finite = grid[np.isfinite(grid)]
+    assert share == np.count_nonzero(finite >= 0.9) / finite.size
+    (k, m), low, share_min = paper.optimum(2.0 - grid, min)
+    assert (k, m) == (3, 3) and low == 1.0 and share_min == np.count_nonzero(2.0 - finite <= 1.1) / finite.size

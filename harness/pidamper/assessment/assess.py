@@ -50,6 +50,9 @@ names the table and field, its value and what is allowed, exit status 2):
                      are never interpolated) read off the IDA curves when their leave-one-out error
                      (90th percentile) is within loo_limit (LOO_LIMIT)
                      ([losses], [p695], [ida]: a building, storeys >= 1, run through its FMU)
+    [uncertainty]    hazard (beta_h) and cases [uncertainty.NAME] (fields, factor, sides): the
+                     headline ratios' intervals widened by the hazard curve's and the model's
+                     uncertainty, FOSM terms from runs of perturbed configurations (uncertainty)
     [run]            step [s] (communication step, > 0 and shorter than the shortest record; default
                      the records' dt), bootstrap (an integer >= 1; default 500), seed (an integer >= 0;
                      default 0), beta_m (modelling dispersion added to the collapse fragility, in [0,
@@ -92,8 +95,9 @@ from pidamper_physics import Params
 from . import demands, fragility, hazard, study_file
 from .analysis import analyse, demand_matrix, risk_intervals, varied_power_law
 from .page import (NO_FIT, ida_lines, loss_lines, maf_text, plot_ida_traces, plot_pushover, plot_repair_complete,
-                   ratio_text, runs_text, write_page)
+                   ratio_text, runs_text, uncertainty_lines, write_page)
 from .study_file import LOSS_FIELDS, StudyError
+from .. import tuning
 from ..forcing import ground_motion, spectra
 from ..forcing import Forcing
 from ..scenes.scene import FIDELITY, fmu_values
@@ -149,6 +153,7 @@ class Study:
     beta_m: float = 0.0
     p695: dict = field(default_factory=dict)
     ida: dict = field(default_factory=dict)
+    uncertainty: dict = field(default_factory=dict)
 
     @property
     def storeys(self):
@@ -239,7 +244,7 @@ def parse(data, source="study", folder=Path("."), text=""):
     storeys = building["storeys"]
     heights = building.get("storey_height", STOREY_HEIGHT)
     heights = heights if isinstance(heights, list) else [heights] * max(storeys, 1)
-    configurations = {name: dict(params) for name, params in data["configurations"].items()}
+    configurations = {name: _tuned(building, dict(params)) for name, params in data["configurations"].items()}
     for name, params in configurations.items():
         try:
             Params.from_variables(start_values({**building, **params}))
@@ -258,7 +263,9 @@ def parse(data, source="study", folder=Path("."), text=""):
                   description=head.get("description", ""), scope=head.get("scope", ""), folder=folder,
                   changes=head.get("changes", ""),
                   losses=_losses(data.get("losses"), source, folder), beta_m=float(run.get("beta_m", 0.0)),
-                  p695=_p695(data.get("p695")), ida=_ida(data.get("ida"), source, levels))
+                  p695=_p695(data.get("p695")), ida=_ida(data.get("ida"), source, levels),
+                  uncertainty=dict(data.get("uncertainty") or {}))
+    _check_perturbed(study)
     _check_hazard_fits(study)
     try:
         study.records = ground_motion.suite(study.suite, folder)
@@ -289,6 +296,30 @@ def _blame(err, source, building, name, params):
                         return StudyError(source, f"{label}.{alias}[{k}]", value[k - 1], err.allowed)
                     return StudyError(source, f"{label}.{alias}", value, err.allowed)
     return StudyError(source, f"configurations.{name}", params, str(err))
+
+
+def _tuned(building, params):
+    """A configuration's parameters, a `tmd` rule replaced by the TMD it gives (pidamper.tuning)."""
+    if "tmd" not in params:
+        return params
+    rule = params.pop("tmd")
+    return {**params, **tuning.configuration(start_values({**building, **params}), params["mu"], rule)}
+
+
+def _check_perturbed(study):
+    """Every configuration an [uncertainty] case perturbs is one the FMU takes; else a StudyError
+    naming the case's factor."""
+    from . import uncertainty
+
+    for case in uncertainty.cases(study.uncertainty):
+        for sign in case.signs:
+            for name, params in uncertainty.perturbed(study.building, study.configurations, case, sign).items():
+                try:
+                    Params.from_variables(start_values({**study.building, **params}))
+                except ValueError as err:
+                    raise StudyError(study.source, f"uncertainty.{case.name}.factor", case.factor,
+                                     f"a factor whose {'multiple' if sign > 0 else 'quotient'} of {case.fields} the "
+                                     f"FMU takes in configuration {name} ({err})") from None
 
 
 def _hazard_curve(spec, source, folder):
@@ -763,21 +794,11 @@ def write_parquet(rows, path):
     pq.write_table(pa.table({c: [r[c] for r in rows] for c in columns}), path)
 
 
-def configuration_losses(study, rows, conf, collapse):
-    """(loss_study.StripeLosses, its realizations per stripe as frames) of one configuration."""
-    from . import loss_study
-
-    frames = []
-    sink = lambda level, frame: frames.append(frame.assign(configuration=conf, level=level))  # noqa: E731
-    found = loss_study.stripe_losses(study, rows, conf, study.losses["model"], study.losses["realizations"],
-                                     study.seed, sink, collapse)
-    return found, frames
-
-
 def assess_losses(study, rows, out, collapse=None, workers=1):
     """The [losses] part (loss_study): per configuration its StripeLosses (the configurations on up to
     `workers` processes), every realization in OUT/losses.parquet, the annual figures with
-    paired-bootstrap intervals, the EAL ratio under the hazard's slope varied; the page's lines."""
+    paired-bootstrap intervals, the EAL ratio under the hazard's slope varied: (the page's lines,
+    {configuration: StripeLosses}, the ratios' Intervals of loss_study.compare)."""
     import pandas as pd
 
     from . import loss_study
@@ -785,16 +806,9 @@ def assess_losses(study, rows, out, collapse=None, workers=1):
     if any(not np.isfinite(r.get("collapsed", math.nan)) for r in rows):
         raise StudyError(study.source, "losses", "", "runs of a building through the FMU (engine fmu, storeys >= 1): "
                          "the demands per storey and floor come from it")
-    confs = list(study.configurations)
-    args = [(study, rows, c, collapse[c] if collapse else None) for c in confs]
-    if min(workers or 1, len(confs)) > 1:
-        from concurrent.futures import ProcessPoolExecutor
-        with ProcessPoolExecutor(max_workers=min(workers, len(confs))) as pool:
-            found = list(pool.map(configuration_losses, *zip(*args)))
-    else:
-        found = [configuration_losses(*a) for a in args]
-    per_conf = {c: f[0] for c, f in zip(confs, found)}
-    frames = [frame for _, parts in found for frame in parts]
+    found = loss_study.configurations_losses(study, rows, list(study.configurations), collapse, workers)
+    per_conf = {c: f[0] for c, f in found.items()}
+    frames = [frame for _, parts in found.values() for frame in parts]
     table = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
     table.to_parquet(Path(out) / "losses.parquet")
     rule = study.hazard.get("rule", "loglog")
@@ -808,7 +822,24 @@ def assess_losses(study, rows, out, collapse=None, workers=1):
             slopes[slope] = [e / eal[0] for e in eal[1:]]
     plot_repair_complete(study, per_conf, table, Path(out) / "repair-complete.png")
     figures = loss_study.hazard_figures(study, per_conf, rule)
-    return loss_lines(study, rows, per_conf, values, ratios, slopes, figures)
+    return loss_lines(study, rows, per_conf, values, ratios, slopes, figures), per_conf, ratios
+
+
+def assess_uncertainty(study, out, per_conf, ratios, collapse, run, workers=1):
+    """The [uncertainty] part (uncertainty.assess): the perturbed configurations run by
+    `run(configurations)` (the study's stripes, resumable like them), their losses on up to
+    `workers` processes; the page's lines."""
+    from . import loss_study, uncertainty
+
+    def runs(configurations):
+        return run(dataclasses.replace(study, configurations=configurations)) if configurations else []
+
+    def losses_of(configurations, rows):
+        sub = dataclasses.replace(study, configurations=configurations)
+        found = loss_study.configurations_losses(sub, rows, list(configurations), None, workers)
+        return {c: f[0] for c, f in found.items()}
+
+    return uncertainty_lines(study, uncertainty.assess(study, per_conf, ratios, collapse, runs, losses_of))
 
 
 def p695_lines(study, rows, out, collapse=None):
@@ -958,13 +989,21 @@ def assessment(study_path, out="assessment", engine="fmu", workers=None, dask=Fa
     intervals = risk_intervals(study, fits)
     stage("damage-state fits", t0)
     command = command or "pidamper assess " + " ".join(shlex.quote(a) for a in [str(study_path), "--out", str(out)])
-    losses = functools.partial(assess_losses, workers=workers or os.cpu_count())
-    for name, part, wanted, given in (("collapse margin", p695_lines, study.p695, margin_collapse),
-                                      ("losses", losses, study.losses, collapse)):
-        if wanted:
-            t0 = time.perf_counter()
-            extra += part(study, rows, out, given)
-            stage(name, t0)
+    if study.p695:
+        t0 = time.perf_counter()
+        extra += p695_lines(study, rows, out, margin_collapse)
+        stage("collapse margin", t0)
+    if study.losses:
+        t0 = time.perf_counter()
+        lines, per_conf, ratios = assess_losses(study, rows, out, collapse, workers or os.cpu_count())
+        extra += lines
+        stage("losses", t0)
+    if study.uncertainty:
+        t0 = time.perf_counter()
+        run = functools.partial(run_study, out=out, engine=engine, workers=workers, dask=dask, scheduler=scheduler,
+                                fmu=fmu, progress=progress)
+        extra += assess_uncertainty(study, out, per_conf, ratios, collapse, run, workers or os.cpu_count())
+        stage("uncertainty", t0)
     t0 = time.perf_counter()
     write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, (), intervals, traces)
     stage("page", t0)

@@ -124,6 +124,26 @@ def stripe_losses(study, rows, configuration, components, realizations, seed, si
     return StripeLosses(p_c, collapsed, cost, irreparable, exceed, source, groups, collapse)
 
 
+def configuration_losses(study, rows, conf, collapse=None):
+    """(StripeLosses, its realizations per stripe as frames) of one configuration."""
+    frames = []
+    sink = lambda level, frame: frames.append(frame.assign(configuration=conf, level=level))  # noqa: E731
+    found = stripe_losses(study, rows, conf, study.losses["model"], study.losses["realizations"], study.seed, sink,
+                          collapse)
+    return found, frames
+
+
+def configurations_losses(study, rows, confs, collapse=None, workers=1):
+    """{configuration: configuration_losses(...)} of `confs` on up to `workers` processes; collapse
+    {configuration: Collapse} or None (the stripes')."""
+    args = [(study, rows, c, collapse[c] if collapse else None) for c in confs]
+    if min(workers or 1, len(confs)) > 1:
+        from concurrent.futures import ProcessPoolExecutor
+        with ProcessPoolExecutor(max_workers=min(workers, len(confs))) as pool:
+            return dict(zip(confs, pool.map(configuration_losses, *zip(*args))))
+    return {c: configuration_losses(*a) for c, a in zip(confs, args)}
+
+
 def stripe_values(study, stripes, rows_drawn):
     """Per stripe the list of E[L | x_j] (USD) and P(T > t | x_j) per threshold of one configuration from the
     records `rows_drawn` (the bootstrap's draw; collapse refitted on it); None when the collapse

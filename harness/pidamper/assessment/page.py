@@ -512,6 +512,50 @@ def loss_lines(study, rows, per_conf, values, ratios, slopes, figures):
     return lines
 
 
+def uncertainty_lines(study, found):
+    """The headline ratios restated with the hazard's and the model's uncertainty (an
+    uncertainty.Found): per configuration and ratio the records-only interval, each source's sides
+    and one-sigma term, and the widened interval."""
+    confs = list(study.configurations)
+    names = (["expected annual loss"] + [f"MAF of repair > {t:g} days" for t in study.losses["repair_days"]]
+             + ["median collapse intensity"])
+    lines = ["", "## The headline ratios with the hazard's and the model's uncertainty", "",
+             "Each ratio's 90 % interval: the paired bootstrap over records (as above), then each source below moved "
+             "one sigma, its change of ln(ratio) (central: half the change from its minus to its plus side; one "
+             "side: the change from the reference) added in quadrature to the bootstrap's half-interval in ln units "
+             "over z = 1.645 (first-order second-moment, the sources independent, as FEMA P-695 adds its beta_TOT). "
+             "A rate error common to every intensity (the hazard curve scaled up or down) cancels in a ratio "
+             "exactly, and so does a modelling error that moves both configurations alike; what is left is what "
+             "moves one configuration more than the other: the curve's shape and the damper's tuning and contacts. "
+             "The median collapse intensity is where half the records collapsed in their IDA (own Sa scaling); "
+             "the hazard does not move it.", "",
+             "Sources: " + "; ".join(f"**{name}**: {text}" for name, text, _, _ in found.sources)
+             + f". The model sources' {found.runs} runs (every record at every stripe in each perturbed "
+             "configuration, no IDA) compare the stripes' lognormal collapse fit with itself: their reference is the "
+             "study's own configurations with that fit.", ""]
+    for c in confs[1:]:
+        lines += [f"| ratio {c} / {confs[0]} | point | records only | "
+                  + " | ".join(f"{name}: minus / plus (one sigma, ln)" for name, _, _, _ in found.sources)
+                  + " | records, hazard and model |", "|---|---:|---:|" + "---:|" * (len(found.sources) + 1)]
+        for k, name in enumerate(names):
+            interval = found.intervals[c][k]
+            cells = []
+            for _, _, sides, ref in found.sources:
+                plus, minus = sides[1][c][k], sides[-1][c][k] if -1 in sides else ref[c][k]
+                step = (0.5 * math.log(plus / minus) if plus > 0 and minus > 0 else math.nan)
+                step = step if -1 in sides else (2 * step)
+                cells.append(f"{minus:.3g} / {plus:.3g} ({step:+.3f})" if np.isfinite(step) else
+                             f"{minus:.3g} / {plus:.3g}")
+            lo, hi = found.widened[c][k]
+            whole = f"**{lo:.3g} to {hi:.3g}**" if np.isfinite(lo) else "no interval"
+            records = f"{interval.lo:.3g} to {interval.hi:.3g}" if np.isfinite(interval.lo) else "no interval"
+            lines.append(f"| {name} | {interval.point:.3g} | {records} | " + " | ".join(cells) + f" | {whole} |")
+        lines.append("")
+    lines.append("A one-sided source's minus column is its reference (the study's configurations, the stripes' "
+                 "collapse fit).")
+    return lines
+
+
 #: how the EAL integrates between the stripes (hazard.Integral), in the page's words
 RULE_TEXT = {"loglog": "E[L | x] a power law in x between neighbouring stripes (linear in ln x next to a zero "
                        "loss), integrated exactly against the log-log hazard, held at the top stripe's above it",

@@ -76,7 +76,7 @@ TABLE = Rule(lambda v: isinstance(v, dict), "a table { ... }")
 MEASURES = ("Sa", "Sa_avg", "PGA", "PGV")
 #: the tables of a study file, those it must have, and each one's fields (None: any name)
 SECTIONS = ("study", "building", "configurations", "suite", "intensity", "damage_states", "hazard", "losses", "p695",
-            "ida", "run")
+            "ida", "uncertainty", "run")
 REQUIRED_SECTIONS = {
     "building": "storeys and the FMU parameters of the building",
     "configurations": "one table [configurations.NAME] or more (FMU parameters on top of the building; mu = 0 for "
@@ -165,6 +165,12 @@ FIELDS = {
               "seed": integer(0, "an integer >= 0"), "start": TEXT, "envelope": TABLE,
               **{key: NUMBER for key in ("duration", "dt", "omega_g", "zeta_g", "omega_f", "zeta_f", "S0", "pga")}},
 }
+#: [uncertainty]: the headline ratios' intervals beyond record resampling (assessment.uncertainty)
+UNCERTAINTY = {"hazard": "beta_h: one sigma of the hazard curve's intensities in ln units (the curve's intensities "
+                         "scaled by exp(+-beta_h)), in (0, 2)",
+               "case": "a table [uncertainty.NAME] of one model source: fields = [FMU fields of the building or the "
+                       "configurations], factor (> 0, not 1: the one-sigma multiplier of the fields' values), sides "
+                       "(2: x factor and / factor, the default; 1: x factor only)"}
 #: fields that must be there when their table is
 REQUIRED = {"intensity": ("levels",), "ida": ("first", "step"),
             "losses": ("components", "floor_area", "replacement_cost", "replacement_days")}
@@ -252,7 +258,10 @@ def check(data, source):
         for key in ("storeys", "storey_height"):
             if key in params:
                 refuse(f"configurations.{name}.{key}", params[key], "the building's: give it in [building]")
-        _check_model(refuse, f"configurations.{name}", params, fields, storeys)
+        if "tmd" in params:
+            _check_tmd(refuse, name, params, {**building, **params})
+        _check_model(refuse, f"configurations.{name}", {k: v for k, v in params.items() if k != "tmd"}, fields,
+                     storeys)
         _check_forms(refuse, f"configurations.{name}", params, {**building, **params}, storeys)
     for table, known in FIELDS.items():
         values = data.get(table, {})
@@ -282,6 +291,8 @@ def check(data, source):
     if "loo_limit" in ida and ida.get("stripes") != "interpolate":
         refuse("ida.loo_limit", ida["loo_limit"], "only with stripes = \"interpolate\" (it bounds the error of "
                "reading demands off the IDA curves)")
+    if "uncertainty" in data:
+        _check_uncertainty(refuse, data["uncertainty"], data, fields)
     if "p695" in data and measure != "Sa":
         refuse("intensity.measure", measure, "\"Sa\" with [p695]: FEMA P-695's margin compares S_CT with S_MT, "
                "both Sa(T)")
@@ -301,6 +312,28 @@ def _check_model(refuse, table, params, fields, storeys):
                    + (f"DampedShearBuilding{storeys}.fmu" if storeys else "PendulumImpactDamper.fmu") + ")")
         if not fields[key].ok(value):
             refuse(f"{table}.{key}", value, fields[key].text)
+
+
+#: a configuration's `tmd`: a classical tuned mass damper of its mu (pidamper.tuning)
+TMD = ("den-hartog", "warburton")
+
+
+def _check_tmd(refuse, name, params, merged):
+    """tmd = a rule of pidamper.tuning with mu > 0, no FR, zeta_p or d of its own, fidelity >= damped."""
+    table = f"configurations.{name}"
+    if params["tmd"] not in TMD:
+        refuse(f"{table}.tmd", params["tmd"], "one of " + ", ".join(f'"{r}"' for r in TMD) + " (a tuned mass damper "
+               "of the configuration's mu: Den Hartog's for a harmonic force, Warburton's for white-noise ground "
+               "motion)")
+    for key in ("FR", "zeta_p", "d"):
+        if key in params:
+            refuse(f"{table}.{key}", params[key], f"not with tmd = \"{params['tmd']}\": the rule gives it")
+    if not (_number(params.get("mu")) and params["mu"] > 0):
+        refuse(f"{table}.mu", params.get("mu", MISSING), "a mass ratio > 0 with tmd (the damper's mass over the "
+               "building's)")
+    if merged.get("fidelity", 0) in (0, "linear"):
+        refuse(f"{table}.tmd", params["tmd"], "a fidelity of \"damped\" or above (the TMD's dashpot zeta_p acts "
+               "from there)")
 
 
 def _check_forms(refuse, table, params, merged, storeys):
@@ -329,3 +362,35 @@ def _check_hazard(refuse, hazard):
         refuse("hazard.source", MISSING, FIELDS["hazard"]["source"].text)
     if not forms:
         refuse("hazard", hazard, REQUIRED_SECTIONS["hazard"])
+
+
+def _check_uncertainty(refuse, spec, data, fields):
+    """[uncertainty]: hazard = beta_h and cases [uncertainty.NAME] (UNCERTAINTY), with [losses]."""
+    if not data.get("losses"):
+        refuse("uncertainty", spec, "only with [losses]: it widens the intervals of the EAL, repair-time and "
+               "collapse ratios")
+    if not spec:
+        refuse("uncertainty", spec, f"hazard = ... and/or {UNCERTAINTY['case']}")
+    merged = {**data["building"], **{k: v for params in data["configurations"].values() for k, v in params.items()}}
+    for name, value in spec.items():
+        if name == "hazard":
+            if not (_number(value) and 0 < value < 2):
+                refuse("uncertainty.hazard", value, UNCERTAINTY["hazard"])
+            continue
+        if not isinstance(value, dict):
+            refuse(f"uncertainty.{name}", value, f"hazard = beta_h or {UNCERTAINTY['case']}")
+        for key in value:
+            if key not in ("fields", "factor", "sides"):
+                refuse(f"uncertainty.{name}.{key}", value[key], "the fields are fields, factor, sides")
+        names = value.get("fields", MISSING)
+        if not (isinstance(names, list) and names and all(isinstance(f, str) for f in names)):
+            refuse(f"uncertainty.{name}.fields", names, "a list of FMU fields of the building or the configurations")
+        for f in names:
+            if f not in merged or not (_number(merged[f]) or isinstance(merged[f], list)):
+                refuse(f"uncertainty.{name}.fields", f, "a numeric field given in [building] or a configuration ("
+                       f"given: {', '.join(k for k, v in merged.items() if _number(v) or isinstance(v, list))})")
+        factor = value.get("factor", MISSING)
+        if not (_number(factor) and factor > 0 and factor != 1):
+            refuse(f"uncertainty.{name}.factor", factor, "a number > 0, not 1: the fields' one-sigma multiplier")
+        if value.get("sides", 2) not in (1, 2) or isinstance(value.get("sides"), bool):
+            refuse(f"uncertainty.{name}.sides", value["sides"], "1 (x factor) or 2 (x and / factor)")
