@@ -889,15 +889,6 @@ def p695_lines(study, rows, out, collapse=None):
     fits = {}
     from .loss_study import Collapse
     collapse = collapse or {c: Collapse(levels, collapsed[c], study.beta_m) for c in confs}
-    def median(conf, drawn):
-        """S_CT of the records drawn: where half of them collapsed (IDA), else the stripes' lognormal fit."""
-        if collapse[conf].capacities is not None:
-            value = p695.half_collapse(collapse[conf].capacities[drawn])
-            if not np.isfinite(value):
-                raise fragility.FragilityError("half", "fewer than half of the records collapsed")
-            return value
-        return collapse[conf].fit(drawn).theta
-
     if any(collapse[c].capacities is not None for c in confs) and "set" in study.suite:
         lines[-2:-2] = ["S_CT: the intensity at which half of the records, scaled with the set (FEMA P-695 6.2.2: a "
                         "record scaled with the set collapses at its own capacity x median(Sa) / its Sa), have "
@@ -909,7 +900,7 @@ def p695_lines(study, rows, out, collapse=None):
         if collapse[c].capacities is not None:
             count = f"{int(np.isfinite(collapse[c].capacities).sum())} of {len(study.records)} records (IDA)"
         try:
-            fits[c] = median(c, np.arange(len(study.records)))
+            fits[c] = collapse[c].median(np.arange(len(study.records)))
         except fragility.FragilityError as err:
             lines.append(f"| {c} | {count} | {pushovers[c].mu_t:.2f} | no fit: {NO_FIT.get(err.kind, err.kind)} | | | "
                          "| | | | | |")
@@ -920,7 +911,7 @@ def p695_lines(study, rows, out, collapse=None):
                      f"{m.beta_total:.3g} | {m.acmr10:.3g} | {m.acmr20:.3g} | {'yes' if m.passes else 'no'} |")
     if len(fits) == len(confs) and len(confs) > 1:
         def medians(rows_drawn):
-            found = [median(c, rows_drawn) for c in confs]
+            found = [collapse[c].median(rows_drawn) for c in confs]
             return [f / found[0] for f in found[1:]]
         ratios = bootstrap.paired(medians, len(study.records), n=study.bootstrap, seed=study.seed)
         lines += ["", "Ratio of the median collapse intensities (90 % paired bootstrap over records): " + "; ".join(

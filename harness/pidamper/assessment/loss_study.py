@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import ndtr
 
-from . import bootstrap, demands, fragility, hazard, losses
+from . import bootstrap, demands, fragility, hazard, losses, p695
 
 
 @dataclass
@@ -75,6 +75,17 @@ class Collapse:
         if self.capacities is not None:
             text = f"IDA capacities' {text} ({fit.censored} of {fit.n} records did not collapse)"
         return p, text
+
+    def median(self, rows):
+        """The median collapse intensity of the records drawn: where half of them collapsed in their
+        IDA (FEMA P-695's S_CT, p695.half_collapse), else the lognormal fit's; FragilityError when
+        there is none."""
+        if self.capacities is None:
+            return self.fit(rows).theta
+        value = p695.half_collapse(self.capacities[rows])
+        if not np.isfinite(value):
+            raise fragility.FragilityError("half", "fewer than half of the records collapsed")
+        return value
 
 
 def collapse_probability(levels, collapsed, beta_m=0.0):

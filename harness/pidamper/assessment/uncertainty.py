@@ -30,7 +30,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.special import ndtri
 
-from . import bootstrap, fragility, hazard, loss_study, p695
+from . import bootstrap, fragility, hazard, loss_study
 
 
 @dataclass(frozen=True)
@@ -92,24 +92,17 @@ def ratios(study, per_conf, integral, median):
     return {c: [v / b if b > 0 else math.nan for v, b in zip(values[c], base)] for c in confs[1:]}
 
 
-def stripes_median(study, stripes):
-    """The stripes' lognormal collapse fit's median (nan without a fit)."""
-    collapse = loss_study.Collapse(study.levels, stripes.collapsed, study.beta_m)
+def median_or_nan(collapse, records):
+    """Collapse.median of all `records` records, nan when it has none."""
     try:
-        return collapse.fit(np.arange(len(study.records))).theta
+        return collapse.median(np.arange(records))
     except fragility.FragilityError:
         return math.nan
 
 
-def ida_median(collapse, rows):
-    """The median collapse intensity of the records drawn: where half of them collapsed in their
-    IDA (p695.half_collapse), else the stripes' lognormal fit's."""
-    if collapse.capacities is not None:
-        value = p695.half_collapse(collapse.capacities[rows])
-        if not np.isfinite(value):
-            raise fragility.FragilityError("half", "fewer than half of the records collapsed")
-        return value
-    return collapse.fit(rows).theta
+def stripes_median(study, stripes):
+    """The stripes' lognormal collapse fit's median (nan without a fit)."""
+    return median_or_nan(loss_study.Collapse(study.levels, stripes.collapsed, study.beta_m), len(study.records))
 
 
 def delta(plus, minus=None, reference=None):
@@ -132,10 +125,8 @@ def widened(interval, deltas, level=0.90):
 
 @dataclass
 class Found:
-    """The headline ratios per configuration (point); per source (name, text, {side: ratios},
-    reference ratios or None); per configuration the bootstrap Intervals and the widened (lo, hi) of
-    each headline; the perturbed runs' count."""
-    point: dict
+    """Per source (name, text, {side: ratios}, reference ratios or None); per configuration the
+    bootstrap Intervals and the widened (lo, hi) of each headline; the perturbed runs' count."""
     sources: list
     intervals: dict
     widened: dict
@@ -155,12 +146,8 @@ def assess(study, per_conf, loss_ratios, collapse, run, losses_of):
                                                                             study.beta_m) for c in confs}
 
     def own_median(c, _stripes):
-        try:
-            return ida_median(collapse[c], np.arange(len(study.records)))
-        except fragility.FragilityError:
-            return math.nan
+        return median_or_nan(collapse[c], len(study.records))
 
-    point = ratios(study, per_conf, integral, own_median)
     sources = []
     if spec.get("hazard"):
         beta = spec["hazard"]
@@ -188,7 +175,7 @@ def assess(study, per_conf, loss_ratios, collapse, run, losses_of):
             deltas = [_delta(sides, ref_, c, k) for _, _, sides, ref_ in sources]
             out[c].append(widened(interval, [d for d in deltas if np.isfinite(d)]) if np.isfinite(interval.lo)
                           else (math.nan, math.nan))
-    return Found(point, sources, intervals, out, len(rows))
+    return Found(sources, intervals, out, len(rows))
 
 
 def _delta(sides, reference, conf, k):
@@ -205,7 +192,7 @@ def _intervals(study, loss_ratios, collapse, confs):
     """Per configuration but the first: the bootstrap ratio Intervals of the losses' headlines and of
     the median collapse intensity (a paired bootstrap of its own, the same draws)."""
     def medians(rows):
-        found = [ida_median(collapse[c], rows) for c in confs]
+        found = [collapse[c].median(rows) for c in confs]
         return [f / found[0] for f in found[1:]]
 
     try:
