@@ -44,3 +44,5 @@ def test_the_joint_optimum_and_its_flatness_on_a_known_grid():
     assert share == np.count_nonzero(finite >= 0.9) / finite.size
     (k, m), low, share_min = paper.optimum(2.0 - grid, min)
     assert (k, m) == (3, 3) and low == 1.0 and share_min == np.count_nonzero(2.0 - finite <= 1.1) / finite.size
+    last = len(paper.JOINT_MU) - 1
+    assert paper._cell(0, last).endswith("(edge: largest mu, smallest FR)") and "edge" not in paper._cell(3, 3)
