@@ -825,7 +825,7 @@ def assess_losses(study, rows, out, collapse=None, workers=1):
     return loss_lines(study, rows, per_conf, values, ratios, slopes, figures), per_conf, ratios
 
 
-def assess_uncertainty(study, out, per_conf, ratios, collapse, run, workers=1):
+def assess_uncertainty(study, per_conf, ratios, collapse, run, workers=1):
     """The [uncertainty] part (uncertainty.assess): the perturbed configurations run by
     `run(configurations)` (the study's stripes, resumable like them), their losses on up to
     `workers` processes; the page's lines."""
@@ -993,7 +993,7 @@ def assessment(study_path, out="assessment", engine="fmu", workers=None, dask=Fa
         t0 = time.perf_counter()
         run = functools.partial(run_study, out=out, engine=engine, workers=workers, dask=dask, scheduler=scheduler,
                                 fmu=fmu, progress=progress)
-        extra += assess_uncertainty(study, out, per_conf, ratios, collapse, run, workers or os.cpu_count())
+        extra += assess_uncertainty(study, per_conf, ratios, collapse, run, workers or os.cpu_count())
         stage("uncertainty", t0)
     t0 = time.perf_counter()
     write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, (), intervals, traces)

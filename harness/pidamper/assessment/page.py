@@ -529,23 +529,20 @@ def uncertainty_lines(study, found):
              "moves one configuration more than the other: the curve's shape and the damper's tuning and contacts. "
              "The median collapse intensity is where half the records collapsed in their IDA (own Sa scaling); "
              "the hazard does not move it.", "",
-             "Sources: " + "; ".join(f"**{name}**: {text}" for name, text, _, _ in found.sources)
+             "Sources: " + "; ".join(f"**{source.name}**: {source.text}" for source in found.sources)
              + f". The model sources' {found.runs} runs (every record at every stripe in each perturbed "
              "configuration, no IDA) compare the stripes' lognormal collapse fit with itself: their reference is the "
              "study's own configurations with that fit.", ""]
     for c in confs[1:]:
         lines += [f"| ratio {c} / {confs[0]} | point | records only | "
-                  + " | ".join(f"{name}: minus / plus (one sigma, ln)" for name, _, _, _ in found.sources)
+                  + " | ".join(f"{source.name}: minus / plus (one sigma, ln)" for source in found.sources)
                   + " | records, hazard and model |", "|---|---:|---:|" + "---:|" * (len(found.sources) + 1)]
         for k, name in enumerate(names):
             interval = found.intervals[c][k]
             cells = []
-            for _, _, sides, ref in found.sources:
-                plus, minus = sides[1][c][k], sides[-1][c][k] if -1 in sides else ref[c][k]
-                step = (0.5 * math.log(plus / minus) if plus > 0 and minus > 0 else math.nan)
-                step = step if -1 in sides else (2 * step)
-                cells.append(f"{minus:.3g} / {plus:.3g} ({step:+.3f})" if np.isfinite(step) else
-                             f"{minus:.3g} / {plus:.3g}")
+            for source in found.sources:
+                minus, plus, step = source.minus[c][k], source.plus[c][k], source.delta(c, k)
+                cells.append(f"{minus:.3g} / {plus:.3g}" + (f" ({step:+.3f})" if np.isfinite(step) else ""))
             lo, hi = found.widened[c][k]
             whole = f"**{lo:.3g} to {hi:.3g}**" if np.isfinite(lo) else "no interval"
             records = f"{interval.lo:.3g} to {interval.hi:.3g}" if np.isfinite(interval.lo) else "no interval"

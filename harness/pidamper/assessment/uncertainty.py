@@ -124,9 +124,27 @@ def widened(interval, deltas, level=0.90):
 
 
 @dataclass
+class Source:
+    """One source: its name and text, the headline ratios per configuration at its plus side and at
+    its minus side (a one-sided source: the reference's), and whether it is central."""
+    name: str
+    text: str
+    plus: dict
+    minus: dict
+    central: bool
+
+    def delta(self, conf, k):
+        """One sigma of ln(ratio) of headline k of configuration `conf` (nan where a ratio is not > 0)."""
+        plus, minus = self.plus[conf][k], self.minus[conf][k]
+        if not (plus > 0 and minus > 0):
+            return math.nan
+        return delta(plus, minus) if self.central else delta(plus, reference=minus)
+
+
+@dataclass
 class Found:
-    """Per source (name, text, {side: ratios}, reference ratios or None); per configuration the
-    bootstrap Intervals and the widened (lo, hi) of each headline; the perturbed runs' count."""
+    """The Sources; per configuration the bootstrap Intervals and the widened (lo, hi) of each
+    headline; the perturbed runs' count."""
     sources: list
     intervals: dict
     widened: dict
@@ -153,7 +171,8 @@ def assess(study, per_conf, loss_ratios, collapse, run, losses_of):
         beta = spec["hazard"]
         sides = {s: ratios(study, per_conf, hazard.Integral(shifted(study.curve, math.exp(s * beta)), study.levels,
                                                             rule), own_median) for s in (1, -1)}
-        sources.append(("hazard", f"the hazard curve's intensities x exp(+-{beta:g})", sides, None))
+        sources.append(Source("hazard", f"the hazard curve's intensities x exp(+-{beta:g})", sides[1], sides[-1],
+                              True))
     reference = {c: replace(s, collapse=None) for c, s in per_conf.items()}
     ref = ratios(study, reference, integral, lambda c, s: stripes_median(study, s))
     changed = {label(c, case, sign): p for case in cases(spec) for sign in case.signs
@@ -166,26 +185,16 @@ def assess(study, per_conf, loss_ratios, collapse, run, losses_of):
             mine = {c: found.get(label(c, case, sign), reference[c]) for c in confs}
             sides[sign] = ratios(study, mine, integral, lambda c, s: stripes_median(study, s))
         text = f"{', '.join(case.fields)} x {case.factor:g}" + (f" and / {case.factor:g}" if case.sides == 2 else "")
-        sources.append((case.name, text, sides, ref))
+        sources.append(Source(case.name, text, sides[1], sides.get(-1, ref), case.sides == 2))
     intervals = _intervals(study, loss_ratios, collapse, confs)
     out = {}
     for c in confs[1:]:
         out[c] = []
         for k, interval in enumerate(intervals[c]):
-            deltas = [_delta(sides, ref_, c, k) for _, _, sides, ref_ in sources]
+            deltas = [source.delta(c, k) for source in sources]
             out[c].append(widened(interval, [d for d in deltas if np.isfinite(d)]) if np.isfinite(interval.lo)
                           else (math.nan, math.nan))
     return Found(sources, intervals, out, len(rows))
-
-
-def _delta(sides, reference, conf, k):
-    plus, minus = sides[1][conf][k], sides.get(-1, {}).get(conf, [None] * (k + 1))[k]
-    if not (plus > 0) or (minus is not None and not minus > 0):
-        return math.nan
-    if minus is not None:
-        return delta(plus, minus)
-    base = reference[conf][k]
-    return delta(plus, reference=base) if base > 0 else math.nan
 
 
 def _intervals(study, loss_ratios, collapse, confs):
