@@ -1,4 +1,4 @@
-"""Command line: pidamper run | replay | demo | bench | stress | study | paper | cosim | assess.
+"""Command line: pidamper run | replay | demo | bench | stress | study | paper | cosim | assess | design.
 
     pidamper run [SCENE] [--forcing KIND] [-p NAME=VALUE ...] [--stop-time S | --periods N]
                  [--output-interval H] [--fmu PATH] [--csv-out FILE] [--out DIR] [--serve | --connect URL]
@@ -6,7 +6,7 @@
     pidamper demo [--out DIR]
 
 The commands live in their rooms; this module only dispatches.  The commands with their own parser
-(bench, stress, study, paper, cosim, assess) are imported when called.
+(bench, stress, study, paper, cosim, assess, design) are imported when called.
 """
 import argparse
 import importlib
@@ -26,6 +26,8 @@ OWN_PARSER = {
               "OpenSees model, co-simulated (pidamper cosim --help shows both)"),
     "assess": ("pidamper.assessment.assess:cli_main",
                "performance-based assessment: suite, stripes, fragility, risk (pidamper assess --help)"),
+    "design": ("pidamper.design.command:cli_main",
+               "search the damper's parameters on a building with optuna (pidamper design --help)"),
 }
 
 

@@ -103,11 +103,6 @@ from ..forcing import Forcing
 from ..scenes.scene import FIDELITY, fmu_values
 from ..studies.runner import Table, add_runner_arguments, run_table
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
-
 G = 9.80665  # m/s2: standard gravity, the unit g of Sa and PGA levels
 #: default storey height [m]: HAZUS-MH 2.1 Technical Manual (FEMA 2013), Table 5.1, gives typical
 #: heights of concrete moment frames of 20, 50 and 120 ft for 2, 5 and 12 storeys: 10 ft = 3.05 m
@@ -163,7 +158,7 @@ class Study:
     def period(self):
         """T1 [s]: the first natural period of the bare elastic building, with P-Delta when the
         building has it (no particle: its weight left out), the Sa period of every configuration."""
-        return 2.0 * math.pi / Params.from_variables({**start_values(self.building), "mu": 0.0}).w2
+        return first_period(self.building)
 
     @property
     def code_period(self):
@@ -205,6 +200,12 @@ class Study:
         return spectra.pgv(record)
 
 
+def first_period(building):
+    """T1 [s] of a study's [building] table: the bare elastic building's first natural period, with
+    P-Delta when it has it."""
+    return 2.0 * math.pi / Params.from_variables({**start_values(building), "mu": 0.0}).w2
+
+
 def start_values(params):
     """FMU start values of study parameters (scene.fmu_values; fidelity by name; storey_height goes
     to the building FMU's storey[k].h); every run starts from rest."""
@@ -224,16 +225,8 @@ def start_values(params):
 
 def load(path):
     """The Study of a TOML file (records read or generated)."""
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"study file {path} does not exist")
-    text = path.read_text()
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise StudyError(str(path), "file", "TOML", f"it must be valid TOML ({err})") from None
-    study = parse(data, str(path), path.parent, text)
-    return study
+    data, text = study_file.read(path)
+    return parse(data, str(path), Path(path).parent, text)
 
 
 def parse(data, source="study", folder=Path("."), text=""):
@@ -950,15 +943,17 @@ def assessment(study_path, out="assessment", engine="fmu", workers=None, dask=Fa
     out.mkdir(parents=True, exist_ok=True)
     stages, extra, collapse, traces, margin_collapse = [], [], None, None, None
 
-    def stage(name, t0):
-        stages.append((name, time.perf_counter() - t0))
+    def stage(name, t0, journal=None):
+        """A stage's wall time since t0 and the finished runs its journal held at t0 (the IDAs' runs)."""
+        stages.append((name, time.perf_counter() - t0, held.pop(journal, 0)))
         if progress:
             print(f"pidamper assess: {name} finished, {stages[-1][1]:.0f} s", file=sys.stderr, flush=True)
 
+    held = {name: journaled(out / name) for name in ("ida.csv", "runs.csv")}
     if study.ida:  # first: its curves may give the stripes
         t0 = time.perf_counter()
         traces = run_ida(study, out, engine, workers, dask, scheduler, fmu, progress)
-        stage("IDA runs", t0)
+        stage("IDA runs", t0, "ida.csv")
         collapse = ida_collapse(study, traces)
         code = study.code_period
         at = None if code is None else {r["record_index"]: spectra.sa(study.records[r["record_index"]], code,
@@ -972,8 +967,8 @@ def assessment(study_path, out="assessment", engine="fmu", workers=None, dask=Fa
     else:
         t0 = time.perf_counter()
         rows = run_study(study, out, engine, workers, dask, scheduler, fmu, progress, traces)
-        stage("stripe runs", t0)
-    wall = sum(sec for _, sec in stages)
+        stage("stripe runs", t0, "runs.csv")
+    wall = sum(sec for _, sec, _ in stages)
     write_parquet(rows, out / "runs.parquet")
     t0 = time.perf_counter()
     fits, risks = analyse(study, rows)
@@ -993,14 +988,29 @@ def assessment(study_path, out="assessment", engine="fmu", workers=None, dask=Fa
         t0 = time.perf_counter()
         run = functools.partial(run_study, out=out, engine=engine, workers=workers, dask=dask, scheduler=scheduler,
                                 fmu=fmu, progress=progress)
+        held["uncertainty"] = journaled(out / "runs.csv", perturbed=True)
         extra += assess_uncertainty(study, per_conf, ratios, collapse, run, workers or os.cpu_count())
-        stage("uncertainty", t0)
+        stage("uncertainty", t0, "uncertainty")
     t0 = time.perf_counter()
     write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, (), intervals, traces)
     stage("page", t0)
     write_page(study, rows, fits, risks, out, command, wall, workers or os.cpu_count(), extra, stages, intervals,
                traces)
     return Assessment(study, rows, fits, risks, traces)
+
+
+def journaled(path, perturbed=False):
+    """The finished runs a journal holds (ida.csv: the runs of its IDAs; runs.csv: its rows, or with
+    `perturbed` those of the [uncertainty] cases' configurations, 'damper@storeys+'); 0 without it."""
+    if not Path(path).is_file():
+        return 0
+    import csv
+
+    with Path(path).open(newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    if Path(path).name == "ida.csv":
+        return sum(Journal._runs(row) for row in rows)
+    return sum("@" in row.get("configuration", "") for row in rows) if perturbed else len(rows)
 
 
 def summary(found, out):

@@ -61,6 +61,18 @@ def run_demands(values, accel, dt, period, step=None, fmu=None, record="record")
     output turned 1), but only the few outputs the demands need are read at each step: the same
     demands as demands_of(run(...).data) to the last bit (tests/test_demands.py), at a fraction of the
     host's cost.  A refused FMI call raises simulation.FmuError with what the model logged."""
+    times, ground = with_tail(accel, dt, period)
+    h = step or dt
+    n = int(round(times[-1] / h))
+    inputs = np.interp(h * np.arange(n + 1), times, ground).tolist()  # as pidamper.run samples a table
+    return stepped_building(values, inputs, fmu, lambda instance: _stepped(
+        instance, inputs, h, values["storeys"], period, float(np.abs(accel).max()), values))
+
+
+def stepped_building(values, inputs, fmu, stepping):
+    """stepping(instance) on an initialised FmuInstance of the building FMU of start values `values`
+    (its input a_g set to inputs[0]), for hosts that read only what they need at each step; a
+    refused FMI call raises simulation.FmuError with what the model logged."""
     from fmpy.fmi1 import FMICallException
 
     from ..running.fmu import find_fmu
@@ -69,18 +81,13 @@ def run_demands(values, accel, dt, period, step=None, fmu=None, record="record")
     from ..running.unpacked import unpacked
     from ..running.variants import for_model, storeys_of
 
-    storeys = values["storeys"]
-    times, ground = with_tail(accel, dt, period)
-    h = step or dt
-    n = int(round(times[-1] / h))
-    inputs = np.interp(h * np.arange(n + 1), times, ground).tolist()  # as pidamper.run samples a table
     path = str(find_fmu(fmu, storeys=storeys_of(values)))
     model_values = for_model(unpacked(path)[1].modelName, dict(values))
     messages = FmuMessages()
     logger = lambda status, text: messages(None, None, status, None, text)  # noqa: E731
     try:
-        with FmuInstance(path, {**model_values, "a_g": inputs[0]}, logger=logger) as fmu:
-            return _stepped(fmu, inputs, h, storeys, period, float(np.abs(accel).max()), values)
+        with FmuInstance(path, {**model_values, "a_g": inputs[0]}, logger=logger) as instance:
+            return stepping(instance)
     except FMICallException as err:
         raise FmuError(f"{messages.text() or '(the model logged nothing)'} [{err}]", None) from err
 

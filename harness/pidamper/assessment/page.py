@@ -145,8 +145,9 @@ def write_page(study, rows, fits, risks, out, command, wall, workers, extra=(), 
              f"Written by `{command}` on {platform.machine()} ({cpu_model()}), Python {platform.python_version()}: "
              f"{_runs_text(study, rows, traces)}, {wall:.0f} s wall on {workers} worker(s)." + (" Its cost on 1 and 2 workers and the extrapolation to more: "
              "[scaling.md](scaling.md) (it names the command that wrote it)." if (out / "scaling.md").exists() else "")
-             + (" Wall time by stage: " + ", ".join(f"{name} {sec:.0f} s" for name, sec in stages) + "."
-                if stages else ""), "",
+             + (" Wall time by stage: " + ", ".join(f"{name} {sec:.0f} s" + (
+                 f" (its journal held {held} finished runs at the start: this invocation ran the rest)" if held
+                 else "") for name, sec, held in stages) + "." if stages else ""), "",
              f"Intensity: {study.label}, stripes {', '.join(f'{v:g}' for v in study.levels)}; " + _scaling_text(study, traces)
              + ". Demand: peak inter-storey drift ratio, the building FMU's exact running maximum "
              "(located between the communication points; the pendulum primary's over them) (storey "

@@ -9,13 +9,20 @@ refuses the first field that is unknown, missing or breaks its rule with a Study
 files named or the records (assess.parse) is checked right after, still before any run.
 """
 import math
+import sys
 from dataclasses import dataclass
+from pathlib import Path
 
 from pidamper_fmu.particle_tables import PENDULUM_ONLY, tables
 from pidamper_physics.imk_storeys import IMK_DEFAULTS
 from pidamper_physics.params import LEVELS, MAX_STOREYS
 
 from ..errors import FieldError
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
 
 
 class StudyError(FieldError):
@@ -227,20 +234,38 @@ def _unknown(known, n=None):
     return text
 
 
+def read(path, what="study file"):
+    """(TOML data, text) of a study file; FileNotFoundError without it, StudyError when it is not TOML."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"{what} {path} does not exist")
+    text = path.read_text()
+    try:
+        return tomllib.loads(text), text
+    except tomllib.TOMLDecodeError as err:
+        raise StudyError(str(path), "file", "TOML", f"it must be valid TOML ({err})") from None
+
+
+def check_tables(refuse, data, sections, required, what="a study file"):
+    """Refuse a table not in `sections`, a value that is not a table, or a `required` table missing
+    or empty ({table: what it holds})."""
+    for key, value in data.items():
+        if key not in sections:
+            refuse(key, value, f"the tables of {what} are {', '.join(sections)}")
+        if not isinstance(value, dict):
+            refuse(key, value, f"a table ([{key}])")
+    for key, rule in required.items():
+        if key not in data:
+            refuse(key, MISSING, f"{what} needs its [{key}] table: {rule}")
+
+
 def check(data, source):
     """Refuse (StudyError) the first field of the study file's TOML data that is unknown, missing or
     breaks its rule."""
     def refuse(name, value, rule):
         raise StudyError(source, name, value, rule)
 
-    for key, value in data.items():
-        if key not in SECTIONS:
-            refuse(key, value, f"the tables of a study file are {', '.join(SECTIONS)}")
-        if not isinstance(value, dict):
-            refuse(key, value, f"a table ([{key}])")
-    for key, rule in REQUIRED_SECTIONS.items():
-        if key not in data:
-            refuse(key, MISSING, f"a study file needs its [{key}] table: {rule}")
+    check_tables(refuse, data, SECTIONS, REQUIRED_SECTIONS)
     building = data["building"]
     storeys = building.get("storeys", MISSING)
     if not (_integer(storeys) and 0 <= storeys <= MAX_STOREYS):

@@ -69,39 +69,60 @@ def execute(task, todo, engine, path, workers=None, dask=False, scheduler=None):
     receives the FMU file itself.  `task` must be a module-level function (it is pickled)."""
     if not todo:
         return
-    if dask or scheduler:
-        yield from _execute_dask(task, todo, engine, path, workers, scheduler)
-        return
-    with ProcessPoolExecutor(max_workers=workers or os.cpu_count()) as pool:
-        futures = [pool.submit(task, p, engine, path) for p in todo]
-        for future in as_completed(futures):
-            yield future.result()
+    with Pool(path, workers, dask, scheduler) as pool:
+        yield from pool.run(task, todo, engine)
 
 
-def _execute_dask(task, todo, engine, path, workers, scheduler):
-    from dask.distributed import Client, LocalCluster, as_completed as dask_completed
+class Pool:
+    """A local process pool, a local Dask cluster or a Dask scheduler's client, open over several
+    rounds of tasks (a search's batches); with Dask the FMU at `path` is shipped to the workers
+    once."""
 
-    cluster = None
-    if scheduler:
-        client = Client(scheduler)
-    else:
-        cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1, processes=True,
-                               dashboard_address=None)
-        client = Client(cluster)
-    try:
-        if path is not None:
-            data = Path(path).read_bytes()
-            digest = hashlib.sha256(data).hexdigest()[:16]
-            shipped = client.scatter(data, broadcast=True)
-            futures = [client.submit(_run_shipped, task, p, engine, shipped, digest, pure=False) for p in todo]
+    def __init__(self, path, workers=None, dask=False, scheduler=None):
+        self.path, self.workers, self.dask = path, workers or os.cpu_count(), bool(dask or scheduler)
+        self.scheduler = scheduler
+        self.pool = self.client = self.cluster = self.shipped = None
+
+    def __enter__(self):
+        if not self.dask:
+            self.pool = ProcessPoolExecutor(max_workers=self.workers)
+            return self
+        from dask.distributed import Client, LocalCluster
+
+        if self.scheduler:
+            self.client = Client(self.scheduler)
         else:
-            futures = [client.submit(task, p, engine, None, pure=False) for p in todo]
+            self.cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
+                                        dashboard_address=None)
+            self.client = Client(self.cluster)
+        if self.path is not None:
+            data = Path(self.path).read_bytes()
+            self.shipped = (self.client.scatter(data, broadcast=True), hashlib.sha256(data).hexdigest()[:16])
+        return self
+
+    def run(self, task, todo, engine):
+        """Yield task(point, engine, path) for every point of `todo` as they finish."""
+        if self.pool is not None:
+            futures = [self.pool.submit(task, p, engine, self.path) for p in todo]
+            for future in as_completed(futures):
+                yield future.result()
+            return
+        from dask.distributed import as_completed as dask_completed
+
+        if self.shipped is not None:
+            futures = [self.client.submit(_run_shipped, task, p, engine, *self.shipped, pure=False) for p in todo]
+        else:
+            futures = [self.client.submit(task, p, engine, None, pure=False) for p in todo]
         for future in dask_completed(futures):
             yield future.result()
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+
+    def __exit__(self, *exc):
+        if self.pool is not None:
+            self.pool.shutdown(cancel_futures=True)
+        if self.client is not None:
+            self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()
 
 
 def write_parquet(csv_path, parquet_path):

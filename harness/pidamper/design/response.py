@@ -1,0 +1,69 @@
+"""What one design run gives: the building FMU (fmpy) stepped through one ground motion, its samples
+held over each communication step of the motion's own interval, reading only what the design's
+metrics need at each step.
+
+    peak_drift       max over storeys of storey[k].drift_ratio_max (exact running maxima)       [1]
+    peak_accel       max over floors of floor[k].a_abs_max (exact; the damper floor's raised by
+                     the largest contact force over its mass, as assessment.demands counts it)  [m/s2]
+    rms_drift        max over storeys of the RMS of storey[k].drift_ratio at the communication
+                     points                                                                       [1]
+    rms_accel        max over floors of the RMS of floor[k].a (absolute)                          [m/s2]
+    peak_base_shear  max |base_shear| at the communication points                                 [N]
+    stroke           max |z| = |x - y| of the particle at the communication points                [m]
+    impact_force     the largest peak contact force of the impacts (0 without materials)          [N]
+    contact_pressure the largest peak contact pressure (0 without materials)                      [Pa]
+    impacts, impacts_plastic, collapsed (0/1; a run that collapses stops there)
+"""
+import math
+
+from ..assessment.demands import damper_floor, stepped_building
+
+METRICS = ("peak_drift", "peak_accel", "rms_drift", "rms_accel", "peak_base_shear")
+DAMPER = ("stroke", "impact_force", "contact_pressure", "impacts", "impacts_plastic", "collapsed")
+COLUMNS = METRICS + DAMPER
+
+
+def run(values, accel, dt, fmu=None):
+    """The module doc's quantities of one run (a dict): `values` the building FMU's start values,
+    `accel` the ground acceleration samples [m/s2] at interval dt [s] (the last sample ends the run)."""
+    inputs = list(accel)
+    return stepped_building(values, inputs, fmu, lambda instance: _stepped(instance, inputs, dt, values))
+
+
+def _stepped(fmu, inputs, h, values):
+    slave = fmu.fmu
+    set_real, do_step, get_real, get_integer = slave.setReal, slave.doStep, slave.getReal, slave.getInteger
+    n = values["storeys"]
+    ag = fmu.vr("a_g")
+    reals = fmu.vr(*[f"storey[{k}].drift_ratio" for k in range(1, n + 1)], *[f"floor[{k}].a" for k in range(1, n + 1)],
+                   "base_shear", "z", "impact_force_peak", "contact_pressure_peak")
+    flag = fmu.vr("collapsed")
+    squares = [0.0] * (2 * n)
+    shear = stroke = force = pressure = 0.0
+    collapsed = False
+    t, steps = 0.0, len(inputs) - 1
+    for k in range(steps):
+        nxt = (k + 1) * h
+        set_real(ag, [inputs[k]])
+        do_step(currentCommunicationPoint=t, communicationStepSize=nxt - t)
+        t = nxt
+        got = get_real(reals)
+        for i in range(2 * n):
+            squares[i] += got[i] * got[i]
+        shear, stroke = max(shear, abs(got[2 * n])), max(stroke, abs(got[2 * n + 1]))
+        force, pressure = max(force, got[2 * n + 2]), max(pressure, got[2 * n + 3])
+        if get_integer(flag)[0]:
+            collapsed = True
+            break
+    done = k + 1 if steps else 1
+    peaks = get_real(fmu.vr(*[f"storey[{k}].drift_ratio_max" for k in range(1, n + 1)],
+                            *[f"floor[{k}].a_abs_max" for k in range(1, n + 1)]))
+    (floor, mass), contact = damper_floor(values)
+    accel = list(peaks[n:])
+    if contact:
+        accel[floor - 1] += force / mass
+    impacts, plastic = get_integer(fmu.vr("impacts", "impacts_plastic"))
+    return {"peak_drift": max(peaks[:n]), "peak_accel": max(accel),
+            "rms_drift": math.sqrt(max(squares[:n]) / done), "rms_accel": math.sqrt(max(squares[n:]) / done),
+            "peak_base_shear": shear, "stroke": stroke, "impact_force": force, "contact_pressure": pressure,
+            "impacts": int(impacts), "impacts_plastic": int(plastic), "collapsed": int(collapsed)}
