@@ -46,7 +46,7 @@ INVOCATIONS = ("started", "command", "designs", "runs_held", "runs_ran", "search
 def log_invocation(out, command, designs, held, ran, seconds, workers, dask):
     """Append this invocation's search to OUT/invocations.csv: the runs its journal held at the start
     and those it ran, so that a page written by a resumed invocation says what its figures cover."""
-    from datetime import datetime, timezone
+    from datetime import datetime, timedelta, timezone
 
     from ..machine import describe
 
@@ -56,7 +56,8 @@ def log_invocation(out, command, designs, held, ran, seconds, workers, dask):
         writer = csv.writer(handle)
         if fresh:
             writer.writerow(INVOCATIONS)
-        writer.writerow([datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), command, designs, held, ran,
+        started = datetime.now(timezone.utc) - timedelta(seconds=seconds)
+        writer.writerow([started.strftime("%Y-%m-%d %H:%M UTC"), command, designs, held, ran,
                          f"{seconds:.0f}", workers, "Dask" if dask else "process pool", describe()])
 
 

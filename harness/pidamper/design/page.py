@@ -20,6 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
+from pidamper_physics.impact import MATERIAL_DEFAULTS
+
 from .. import tuning
 from ..assessment.bootstrap import paired
 from ..forcing import Forcing, ground_motion
@@ -339,7 +341,7 @@ def _records_lines(design, got, labels, records, page, summary):
                          f"{sum(int(float(r['impacts'])) for r in runs)} | "
                          f"{max(float(r['contact_pressure']) for r in runs) / 1e6:.2f} | "
                          f"{max(float(r['stroke']) for r in runs):.3f} |")
-    lines += ["", "#### The benchmark's evaluation criteria (Ohtori et al. 2004)", "",
+    lines += ["", _materials_text(design, got, labels), "", "#### The benchmark's evaluation criteria (Ohtori et al. 2004)", "",
               "J1 peak drift ratio, J2 peak floor acceleration, J3 peak base shear, J4 normed (RMS) drift ratio, "
               "J5 normed floor acceleration, each the controlled building's over the uncontrolled one's, the largest "
               "over the records and both intensities (the benchmark scales its records by 0.5, 1 and 1.5; here "
@@ -364,6 +366,25 @@ def _records_lines(design, got, labels, records, page, summary):
                           if i is not None))
         lines.append(f"| {label} | " + " | ".join(f"{v:.3f}" for v in js) + " |")
     return lines
+
+
+def _materials_text(design, got, labels):
+    """The largest contact force and pressure of the recorded runs, against the study's limits."""
+    runs = [row for (name, _, _), row in got.items() if name in labels]
+    force = max(float(r["impact_force"]) for r in runs)
+    pressure = max(float(r["contact_pressure"]) for r in runs)
+    plastic = sum(int(float(r["impacts_plastic"])) for r in runs)
+    stops = ", ".join(f"{k} = {design.damper.get(k, MATERIAL_DEFAULTS[k]):g}" for k in ("E1", "nu1", "E2", "nu2", "R",
+                                                                                       "S_y"))
+    limit = design.constraints.get("contact_pressure")
+    if not design.damper.get("R", MATERIAL_DEFAULTS["R"]):
+        return (f"Impacts and materials: no contact model (R = 0): the impacts are instantaneous, without a contact "
+                "force or pressure.")
+    return (f"Impacts and materials: the largest contact force of these runs is {force / 1e3:.0f} kN and the largest "
+            f"contact pressure {pressure / 1e6:.2f} MPa (Hertz contact, {stops}; the FMU's defaults where [damper] is "
+            "silent)"
+            + (f", {'within' if pressure <= limit else 'beyond'} the {limit / 1e6:g} MPa the study allows" if limit
+               else "") + f"; {plastic} impacts yielded the softer body (at its S_y).")
 
 
 def _plot_front(design, found, best, path):
