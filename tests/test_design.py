@@ -105,6 +105,33 @@ def test_a_runs_metrics_are_fmpys_hosts(fmu_dir):
     assert got["rms_drift"] == pytest.approx(math.sqrt(np.mean(data["storey[1].drift_ratio"] ** 2)), rel=1e-12)
     assert got["rms_accel"] == pytest.approx(math.sqrt(np.mean(data["floor[1].a"] ** 2)), rel=1e-12)
     assert got["peak_base_shear"] == np.abs(data["base_shear"]).max()
+    assert got["rms_base_shear"] == pytest.approx(math.sqrt(np.mean(data["base_shear"] ** 2)), rel=1e-12)
+    assert got["roof_disp"] == np.abs(data["floor[1].x"]).max()
+    assert math.isnan(got["ductility"]) and math.isnan(got["yielded"]) and got["energy_hysteretic"] == 0.0
+
+
+@pytest.mark.parametrize("amplitude, yielded", [(0.5, 0), (6.0, 2)])
+def test_a_yielding_runs_ductility_and_energy_are_fmpys_hosts(fmu_dir, amplitude, yielded):
+    """On a two-storey yielding building (bilinear storeys, yield drift Fy / k = 7.5 mm) the storeys'
+    ductility, RMS ductility, yielded count and hysteretic energy equal those read off fmpy's host
+    table; below yield no storey yields and no energy is dissipated."""
+    values = search.values_of(parse({**TMD_STUDY, "building": {**TMD_STUDY["building"], "storeys": 2,
+                                                              "storey_k": 8e7, "storey_Fy": 6e5, "storey_b": 0.05}}),
+                              {"FR": 1.0, "zeta_p": 0.1}, 1.0)
+    dt = 0.005
+    times = dt * np.arange(800)
+    accel = amplitude * np.sin(2 * math.pi * 3.0 * times)
+    got = response.run(values, accel, dt)
+    data = simulation.run(values, Forcing("table", {}, table=(times, accel), target="a_g"), stop_time=times[-1],
+                          output_interval=dt).data[1:]
+    heights = [values.get(f"storey[{k}].h", 3.0) for k in (1, 2)]
+    peak = [data[f"storey[{k}].drift_ratio_max"][-1] * heights[k - 1] / 7.5e-3 for k in (1, 2)]
+    rms = [math.sqrt(np.mean(data[f"storey[{k}].drift_ratio"] ** 2)) * heights[k - 1] / 7.5e-3 for k in (1, 2)]
+    assert got["ductility"] == pytest.approx(max(peak), rel=1e-12)
+    assert got["rms_ductility"] == pytest.approx(max(rms), rel=1e-12)
+    assert got["yielded"] == sum(p > 1 for p in peak) == yielded
+    assert got["energy_hysteretic"] == data["energy_hysteretic"][-1]
+    assert (got["energy_hysteretic"] > 0) == (yielded > 0)
 
 
 def test_objectives_and_constraints_are_the_ratios_worst_over_the_stiffness():
@@ -255,6 +282,13 @@ def test_the_page_against_its_oracles(fmu_dir, tmp_path):
     assert float(row[3]) == pytest.approx(tuning.configuration(values, mu, "warburton")["FR"], rel=1e-3)
     assert float(row[4]) == tuning.FAR
     assert (out / "front.png").stat().st_size > 0 and (out / "detuning.png").stat().st_size > 0
+    head = next(line for line in text.splitlines() if line.startswith("| configuration | J1 |")).split("|")[1:-1]
+    rows = [line for line in text.splitlines() if line.startswith("| Warburton TMD, mu") and line.count("|") == 13]
+    assert rows
+    for line in rows:
+        j = dict(zip((h.strip() for h in head), (c.strip() for c in line.split("|")[1:-1])))
+        # equal storeys (the same height and yield drift): ductility is the drift ratio times one factor
+        assert (j["J7"], j["J10"]) == (j["J1"], j["J4"]) and float(j["J6"]) > 0
     with (out / "invocations.csv").open() as handle:
         logged = list(csv.DictReader(handle))
     assert [(row["designs"], row["runs_held"]) for row in logged] == [("8", "0")]

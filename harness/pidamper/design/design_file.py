@@ -57,6 +57,8 @@ METRICS = {"peak_drift": "the largest peak storey drift ratio (exact running max
            "rms_drift": "the largest RMS storey drift ratio (over the communication points)",
            "rms_accel": "the largest RMS absolute floor acceleration (over the communication points)",
            "peak_base_shear": "the largest |base shear| (at the communication points)",
+           "rms_base_shear": "the RMS base shear (over the communication points)",
+           "roof_disp": "the largest |roof displacement| relative to the ground (at the communication points)",
            "mu": "the damper's mass ratio itself (its cost; mu searched), not a ratio to the bare building"}
 STATISTICS = ("mean", "max")
 CONSTRAINTS = {"stroke": number(0.0, text="the room for the particle's swing [m] (> 0): the largest |x - y|",

@@ -9,6 +9,14 @@ metrics need at each step.
                      points                                                                       [1]
     rms_accel        max over floors of the RMS of floor[k].a (absolute)                          [m/s2]
     peak_base_shear  max |base_shear| at the communication points                                 [N]
+    rms_base_shear   the RMS of base_shear at the communication points                            [N]
+    roof_disp        max |floor[N].x| (the top floor, relative to the ground) at the
+                     communication points                                                         [m]
+    ductility        max over storeys of the peak drift over the yield drift storey[k].Fy /
+                     storey[k].k (exact running maxima; nan when the storeys do not yield)         [1]
+    rms_ductility    max over storeys of the RMS drift over the yield drift (nan likewise)         [1]
+    yielded          the storeys whose peak drift passed their yield drift (nan likewise)
+    energy_hysteretic  the energy the storeys' yielding dissipated over the run                    [J]
     stroke           max |z| = |x - y| of the particle at the communication points                [m]
     impact_force     the largest peak contact force of the impacts (0 without materials)          [N]
     contact_pressure the largest peak contact pressure (0 without materials)                      [Pa]
@@ -16,9 +24,12 @@ metrics need at each step.
 """
 import math
 
+from pidamper_physics.params import STOREY_HEIGHT, STOREY_STIFFNESS
+
 from ..assessment.demands import damper_floor, stepped_building
 
-METRICS = ("peak_drift", "peak_accel", "rms_drift", "rms_accel", "peak_base_shear")
+METRICS = ("peak_drift", "peak_accel", "rms_drift", "rms_accel", "peak_base_shear", "rms_base_shear", "roof_disp",
+           "ductility", "rms_ductility", "yielded", "energy_hysteretic")
 DAMPER = ("stroke", "impact_force", "contact_pressure", "impacts", "impacts_plastic", "collapsed")
 COLUMNS = METRICS + DAMPER
 
@@ -30,16 +41,25 @@ def run(values, accel, dt, fmu=None):
     return stepped_building(values, inputs, fmu, lambda instance: _stepped(instance, inputs, dt, values))
 
 
+def yield_drifts(values):
+    """Each storey's yield drift storey[k].Fy / storey[k].k [m], or None when a storey does not yield."""
+    n = values["storeys"]
+    fy = [values.get(f"storey[{k}].Fy", 0.0) for k in range(1, n + 1)]
+    if not all(f > 0 for f in fy):
+        return None
+    return [f / values.get(f"storey[{k}].k", STOREY_STIFFNESS) for k, f in enumerate(fy, 1)]
+
+
 def _stepped(fmu, inputs, h, values):
     slave = fmu.fmu
     set_real, do_step, get_real, get_integer = slave.setReal, slave.doStep, slave.getReal, slave.getInteger
     n = values["storeys"]
     ag = fmu.vr("a_g")
     reals = fmu.vr(*[f"storey[{k}].drift_ratio" for k in range(1, n + 1)], *[f"floor[{k}].a" for k in range(1, n + 1)],
-                   "base_shear", "z", "impact_force_peak", "contact_pressure_peak")
+                   "base_shear", "z", "impact_force_peak", "contact_pressure_peak", f"floor[{n}].x")
     flag = fmu.vr("collapsed")
-    squares = [0.0] * (2 * n)
-    shear = stroke = force = pressure = 0.0
+    squares = [0.0] * (2 * n + 1)
+    shear = stroke = force = pressure = roof = 0.0
     collapsed = False
     t, steps = 0.0, len(inputs) - 1
     for k in range(steps):
@@ -48,22 +68,36 @@ def _stepped(fmu, inputs, h, values):
         do_step(currentCommunicationPoint=t, communicationStepSize=nxt - t)
         t = nxt
         got = get_real(reals)
-        for i in range(2 * n):
+        for i in range(2 * n + 1):
             squares[i] += got[i] * got[i]
         shear, stroke = max(shear, abs(got[2 * n])), max(stroke, abs(got[2 * n + 1]))
         force, pressure = max(force, got[2 * n + 2]), max(pressure, got[2 * n + 3])
+        roof = max(roof, abs(got[2 * n + 4]))
         if get_integer(flag)[0]:
             collapsed = True
             break
     done = k + 1 if steps else 1
     peaks = get_real(fmu.vr(*[f"storey[{k}].drift_ratio_max" for k in range(1, n + 1)],
-                            *[f"floor[{k}].a_abs_max" for k in range(1, n + 1)]))
+                            *[f"floor[{k}].a_abs_max" for k in range(1, n + 1)], "energy_hysteretic"))
     (floor, mass), contact = damper_floor(values)
-    accel = list(peaks[n:])
+    accel = list(peaks[n:2 * n])
     if contact:
         accel[floor - 1] += force / mass
     impacts, plastic = get_integer(fmu.vr("impacts", "impacts_plastic"))
-    return {"peak_drift": max(peaks[:n]), "peak_accel": max(accel),
-            "rms_drift": math.sqrt(max(squares[:n]) / done), "rms_accel": math.sqrt(max(squares[n:]) / done),
-            "peak_base_shear": shear, "stroke": stroke, "impact_force": force, "contact_pressure": pressure,
+    rms = [math.sqrt(s / done) for s in squares]
+    return {"peak_drift": max(peaks[:n]), "peak_accel": max(accel), "rms_drift": max(rms[:n]),
+            "rms_accel": max(rms[n:2 * n]), "peak_base_shear": shear, "rms_base_shear": rms[2 * n], "roof_disp": roof,
+            **_yielding(values, peaks[:n], rms[:n]), "energy_hysteretic": peaks[2 * n],
+            "stroke": stroke, "impact_force": force, "contact_pressure": pressure,
             "impacts": int(impacts), "impacts_plastic": int(plastic), "collapsed": int(collapsed)}
+
+
+def _yielding(values, peak, rms):
+    """ductility, rms_ductility and yielded from the storeys' peak and RMS drift ratios."""
+    yields = yield_drifts(values)
+    if yields is None:
+        return {"ductility": math.nan, "rms_ductility": math.nan, "yielded": math.nan}
+    heights = [values.get(f"storey[{k}].h", STOREY_HEIGHT) for k in range(1, len(yields) + 1)]
+    peak = [p * h / y for p, h, y in zip(peak, heights, yields)]
+    return {"ductility": max(peak), "rms_ductility": max(r * h / y for r, h, y in zip(rms, heights, yields)),
+            "yielded": sum(1 for p in peak if p > 1.0)}
