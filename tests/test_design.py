@@ -108,6 +108,28 @@ def test_a_runs_metrics_are_fmpys_hosts(fmu_dir):
     assert got["rms_base_shear"] == pytest.approx(math.sqrt(np.mean(data["base_shear"] ** 2)), rel=1e-12)
     assert got["roof_disp"] == np.abs(data["floor[1].x"]).max()
     assert math.isnan(got["ductility"]) and math.isnan(got["yielded"]) and got["energy_hysteretic"] == 0.0
+    # the damper's force on the floor, by Newton on the floor (M a = -V + F_d: the table's a and base
+    # shear), or at an impact its contact peak plus the wire's m w1^2 d (m = mu M, w1 = FR sqrt(k / M))
+    newton = np.abs(1e5 * data["floor[1].a"] + data["base_shear"]).max()
+    wire = 0.05 * 1e5 * 8e7 / 1e5 * 0.005
+    assert got["damper_force"] == pytest.approx(max(newton, data["impact_force_peak"].max() + wire), rel=1e-9)
+
+
+def test_a_tmds_force_on_its_floor_is_newtons(fmu_dir):
+    """A TMD (no stops) on one storey: the damper's largest force on the floor equals M a + V read
+    off fmpy's host table (the floor's Newton), and zero without a damper."""
+    design = parse(TMD_STUDY)
+    member = design.members[0]
+    times = member.dt * np.arange(len(member.accel))
+    for params, expected in (({"FR": 0.95, "zeta_p": 0.1}, True), (None, False)):
+        values = search.values_of(design, params, 1.0)
+        got = response.run(values, member.accel, member.dt)
+        data = simulation.run(values, Forcing("table", {}, table=(times, np.asarray(member.accel)), target="a_g"),
+                              stop_time=times[-1], output_interval=member.dt).data[1:]
+        newton = np.abs(1e5 * data["floor[1].a"] + data["base_shear"]).max()
+        inertia = 1e5 * np.abs(data["floor[1].a"]).max()  # the floor's largest inertia force: the scale
+        assert got["damper_force"] == pytest.approx(newton, rel=1e-9, abs=1e-12 * inertia)
+        assert (got["damper_force"] > 0.01 * inertia) == expected
 
 
 @pytest.mark.parametrize("amplitude, yielded", [(0.5, 0), (6.0, 2)])
@@ -283,7 +305,7 @@ def test_the_page_against_its_oracles(fmu_dir, tmp_path):
     assert float(row[4]) == tuning.FAR
     assert (out / "front.png").stat().st_size > 0 and (out / "detuning.png").stat().st_size > 0
     head = next(line for line in text.splitlines() if line.startswith("| configuration | J1 |")).split("|")[1:-1]
-    rows = [line for line in text.splitlines() if line.startswith("| Warburton TMD, mu") and line.count("|") == 13]
+    rows = [line for line in text.splitlines() if line.startswith("| Warburton TMD, mu") and line.count("|") == len(head) + 1]
     assert rows
     for line in rows:
         j = dict(zip((h.strip() for h in head), (c.strip() for c in line.split("|")[1:-1])))

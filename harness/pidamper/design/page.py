@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pidamper_physics import Params
 from pidamper_physics.impact import MATERIAL_DEFAULTS
 
 from .. import tuning
@@ -52,6 +53,7 @@ OHTORI_J = {"J1": ("peak drift ratio", "peak_drift"), "J2": ("peak floor acceler
                    "element's, each over its yield force times its yield drift)", "energy_hysteretic"),
             "J9": ("storeys that yielded (the benchmark's plastic connections)", "yielded"),
             "J10": ("normed (RMS) ductility", "rms_ductility"),
+            "J11": ("the damper's peak force on its floor over the building's weight (not a ratio)", "damper_force"),
             "J12": ("the damper's peak stroke over the uncontrolled roof's peak displacement", "stroke")}
 
 
@@ -249,7 +251,7 @@ def _lines(design, found, designs, tmds, got, decay, records, page, out, command
                                                  for s in DETUNING) + " |")
     quake = {}
     lines += _records_lines(design, got["records"], [k for k in labels if not k.startswith("Den Hartog")], records,
-                            page, quake)
+                            page, quake, _weight(design, page["building"]))
     return (lines + _answer_lines(design, designs, got, quake, page, len(records))
             + _found_lines(design, best, designs, got))
 
@@ -323,8 +325,9 @@ def _answer_lines(design, designs, got, quake, page, n):
     return lines + [""] + wins
 
 
-def _records_lines(design, got, labels, records, page, summary):
-    """The recorded set's lines; summary[(label, sa)] gets the peak drift ratio's Interval."""
+def _records_lines(design, got, labels, records, page, summary, weight):
+    """The recorded set's lines; summary[(label, sa)] gets the peak drift ratio's Interval; weight [N]
+    the building's (Ohtori's J11)."""
     n = len(records)
     lines = ["", "### (c) Recorded motions on the yielding building", "",
              f"The {page['records']} set ({n} components), each scaled to Sa(T1 = {design.period:.3g} s, 5 %) = "
@@ -350,10 +353,16 @@ def _records_lines(design, got, labels, records, page, summary):
                          f"{sum(int(float(r['impacts'])) for r in runs)} | "
                          f"{max(float(r['contact_pressure']) for r in runs) / 1e6:.2f} | "
                          f"{max(float(r['stroke']) for r in runs):.3f} |")
-    return lines + ["", _materials_text(design, got, labels), ""] + _ohtori_lines(got, labels, records, page)
+    return lines + ["", _materials_text(design, got, labels), ""] + _ohtori_lines(got, labels, records, page, weight)
 
 
-def _ohtori_lines(got, labels, records, page):
+def _weight(design, building):
+    """The weight [N] of the building of the [building] table `building` (its floors)."""
+    p = Params.from_variables(search.values_of(design, None, 1.0, building))
+    return p.g * p.building.total_mass
+
+
+def _ohtori_lines(got, labels, records, page, weight):
     """Ohtori et al. (2004)'s evaluation criteria on the substitutes of OHTORI: each the largest over
     those records and the page's intensities of the configuration's value over the bare building's."""
     n = len(records)
@@ -361,9 +370,9 @@ def _ohtori_lines(got, labels, records, page):
              "Each criterion is the controlled building's value over the uncontrolled one's in the same record, the "
              "largest over the records and the page's intensities (the benchmark scales its records by 0.5, 1 and 1.5; "
              "here they are scaled to the site's Sa): " + "; ".join(f"{j} {text}" for j, (text, _) in OHTORI_J.items())
-             + ". J11 (the devices' peak force over the building's weight) is left out: the building FMU does not "
-             "give the pendulum's force on its floor, only the impacts' contact force (above). The storeys are the "
-             "benchmark's elements here: a storey's ductility is its drift over its yield drift storey[k].Fy / "
+             + ". The damper's force on its floor is its wire's, its dashpot's and a ridden stop's at the "
+             "communication points, or at an impact the peak contact force plus the wire's at the stop. The storeys "
+             "are the benchmark's elements here: a storey's ductility is its drift over its yield drift storey[k].Fy / "
              "storey[k].k. The benchmark's records and their substitutes from the set (component a):", "",
              "| benchmark record | substitute | why |", "|---|---|---|"]
     names = [r.name for r in records]
@@ -378,16 +387,19 @@ def _ohtori_lines(got, labels, records, page):
         return lines + ["", "None of the substitutes is among the page's records ([page] ids): no criteria."]
     lines += ["", "| configuration | " + " | ".join(OHTORI_J) + " |", "|---|" + "---|" * len(OHTORI_J)]
     for label in labels:
-        values = [max(_criterion(got, label, metric, m) for m in members) for _, metric in OHTORI_J.values()]
+        values = [max(_criterion(got, label, metric, m, weight) for m in members) for _, metric in OHTORI_J.values()]
         lines.append(f"| {label} | " + " | ".join("n/a" if math.isnan(v) else f"{v:.3f}" for v in values) + " |")
     return lines + ["", "n/a: the uncontrolled building's value is zero (no storey yielded) or the storeys do not "
                     "yield."]
 
 
-def _criterion(got, label, metric, member):
-    """One criterion in one run: the configuration's metric over the bare building's (J12: the stroke
-    over the bare roof's displacement); nan where the bare value is zero or nan."""
+def _criterion(got, label, metric, member, weight):
+    """One criterion in one run: the configuration's metric over the bare building's (J11: the damper's
+    force over the weight; J12: the stroke over the bare roof's displacement); nan where the bare value
+    is zero or nan."""
     mine, bare = got[label, member, 1.0], got["bare", member, 1.0]
+    if metric == "damper_force":
+        return float(mine[metric]) / weight
     top, bottom = float(mine["stroke" if metric == "stroke" else metric]), float(bare["roof_disp" if metric == "stroke"
                                                                                       else metric])
     return top / bottom if bottom > 0 else math.nan

@@ -12,6 +12,10 @@ metrics need at each step.
     rms_base_shear   the RMS of base_shear at the communication points                            [N]
     roof_disp        max |floor[N].x| (the top floor, relative to the ground) at the
                      communication points                                                         [m]
+    damper_force     the largest force of the damper on its floor: m g alpha + c_p L1 alpha' -
+                     contact_force at the communication points (the wire, the dashpot c_p =
+                     2 zeta_p m w1 and a stop it rides), or at an impact its peak contact force
+                     plus the wire's m w1^2 d at the stop (0 without a damper)                    [N]
     ductility        max over storeys of the peak drift over the yield drift storey[k].Fy /
                      storey[k].k (exact running maxima; nan when the storeys do not yield)         [1]
     rms_ductility    max over storeys of the RMS drift over the yield drift (nan likewise)         [1]
@@ -24,12 +28,13 @@ metrics need at each step.
 """
 import math
 
+from pidamper_physics import Params
 from pidamper_physics.params import STOREY_HEIGHT, STOREY_STIFFNESS
 
 from ..assessment.demands import damper_floor, stepped_building
 
 METRICS = ("peak_drift", "peak_accel", "rms_drift", "rms_accel", "peak_base_shear", "rms_base_shear", "roof_disp",
-           "ductility", "rms_ductility", "yielded", "energy_hysteretic")
+           "damper_force", "ductility", "rms_ductility", "yielded", "energy_hysteretic")
 DAMPER = ("stroke", "impact_force", "contact_pressure", "impacts", "impacts_plastic", "collapsed")
 COLUMNS = METRICS + DAMPER
 
@@ -56,10 +61,12 @@ def _stepped(fmu, inputs, h, values):
     n = values["storeys"]
     ag = fmu.vr("a_g")
     reals = fmu.vr(*[f"storey[{k}].drift_ratio" for k in range(1, n + 1)], *[f"floor[{k}].a" for k in range(1, n + 1)],
-                   "base_shear", "z", "impact_force_peak", "contact_pressure_peak", f"floor[{n}].x")
+                   "base_shear", "z", "impact_force_peak", "contact_pressure_peak", f"floor[{n}].x", "alpha",
+                   "alpha_dot", "contact_force")
+    wire, dashpot, stop = _damper_constants(values)
     flag = fmu.vr("collapsed")
     squares = [0.0] * (2 * n + 1)
-    shear = stroke = force = pressure = roof = 0.0
+    shear = stroke = force = pressure = roof = pull = 0.0
     collapsed = False
     t, steps = 0.0, len(inputs) - 1
     for k in range(steps):
@@ -73,6 +80,7 @@ def _stepped(fmu, inputs, h, values):
         shear, stroke = max(shear, abs(got[2 * n])), max(stroke, abs(got[2 * n + 1]))
         force, pressure = max(force, got[2 * n + 2]), max(pressure, got[2 * n + 3])
         roof = max(roof, abs(got[2 * n + 4]))
+        pull = max(pull, abs(wire * got[2 * n + 5] + dashpot * got[2 * n + 6] - got[2 * n + 7]))
         if get_integer(flag)[0]:
             collapsed = True
             break
@@ -87,9 +95,20 @@ def _stepped(fmu, inputs, h, values):
     rms = [math.sqrt(s / done) for s in squares]
     return {"peak_drift": max(peaks[:n]), "peak_accel": max(accel), "rms_drift": max(rms[:n]),
             "rms_accel": max(rms[n:2 * n]), "peak_base_shear": shear, "rms_base_shear": rms[2 * n], "roof_disp": roof,
+            "damper_force": max(pull, force + stop if force > 0 else 0.0),
             **_yielding(values, peaks[:n], rms[:n]), "energy_hysteretic": peaks[2 * n],
             "stroke": stroke, "impact_force": force, "contact_pressure": pressure,
             "impacts": int(impacts), "impacts_plastic": int(plastic), "collapsed": int(collapsed)}
+
+
+def _damper_constants(values):
+    """(m g, c_p L1, m w1^2 d) of the damper on the building of start values `values` [N, N s, N]:
+    its force on the floor is m g alpha + c_p L1 alpha' - contact_force (alpha = (y - x_j) / L1)."""
+    p = Params.from_variables(values)
+    if p.m <= 0.0:
+        return 0.0, 0.0, 0.0
+    damping = 2.0 * p.zeta_p * p.m * p.w1 if p.fidelity >= 1 else 0.0
+    return p.m * p.g, damping * p.L1, p.m * p.w1 * p.w1 * p.d
 
 
 def _yielding(values, peak, rms):
