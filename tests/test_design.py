@@ -276,6 +276,36 @@ def test_the_command_writes_the_trials_and_the_front(fmu_dir, tmp_path, capsys):
     assert "optimizer.trials = 0 is not allowed" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("text", ["", "[building]\nstoreys = 1\n"])
+def test_a_page_assessment_without_configurations_is_refused(tmp_path, text):
+    (tmp_path / "y.toml").write_text("[building]\nstoreys = 1\n")
+    (tmp_path / "a.toml").write_text(text)
+    data = {**copy.deepcopy(TMD_STUDY), "page": {"building": "y.toml", "assessment": "a.toml"}}
+    with pytest.raises(StudyError, match="page.assessment"):
+        design_file.parse(data, folder=tmp_path)
+    data["page"]["assessment"] = "missing.toml"
+    with pytest.raises(StudyError, match="page.assessment"):
+        design_file.parse(data, folder=tmp_path)
+
+
+def test_the_page_names_the_assessments_configuration_of_each_chosen_design():
+    """[page] assessment: each chosen design is matched to the configuration with its parameters, its
+    Warburton TMD to the one with tmd = "warburton" and its mu; a missing one is named missing."""
+    from pidamper.design import page
+
+    design = parse(IMPACT_STUDY)
+    designs = {"design 1 (trial 3)": {"FR": 0.9, "d": 0.01, "e": 0.5}, "design 2 (trial 5)": {"FR": 1.1, "d": 0.01,
+                                                                                              "e": 0.5}}
+    confs = {"bare": {"mu": 0.0}, "near": {"mu": 0.05, "FR": 0.9, "d": 0.01, "e": 0.51, "R": 0.05, "E2": 5e7,
+                                           "nu2": 0.45},
+             "mine": {"mu": 0.05, "FR": 0.9 * (1 + 1e-14), "d": 0.01, "e": 0.5, "R": 0.05, "E2": 5e7, "nu2": 0.45},
+             "tmd": {"mu": 0.05, "tmd": "warburton"}}
+    lines = page._assessment_lines(design, designs, {"file": "a.toml", "configurations": confs})
+    assert "| design 1 (trial 3) | mine | Warburton TMD, mu 0.05 | tmd |" in lines
+    assert "| design 2 (trial 5) | (not in the study: add it) | Warburton TMD, mu 0.05 | tmd |" in lines
+    assert page._assessment_lines(design, designs, None) == []
+
+
 def test_the_page_against_its_oracles(fmu_dir, tmp_path):
     """pidamper design --page on a two-storey building: the bare building's free decay gives its own
     damping ratio (modal damping: zeta_s of every mode), the TMD rows
@@ -283,17 +313,18 @@ def test_the_page_against_its_oracles(fmu_dir, tmp_path):
     from pidamper import tuning
 
     (tmp_path / "yielding.toml").write_text('[building]\nstoreys = 2\nzeta_s = 0.03\nfidelity = "damped"\n'
-                                            'storey_Fy = 6e5\nstorey_b = 0.02\n')
+                                            'storey_Fy = 6e5\nstorey_b = 0.02\n[configurations.bare]\nmu = 0.0\n')
     study = tmp_path / "d.toml"
     study.write_text('[building]\nstoreys = 2\nzeta_s = 0.03\nfidelity = "damped"\n'
                      '[damper]\ne = 0.5\n[search]\nmu = [0.02, 0.06]\nFR = [0.8, 1.2]\nd = [0.005, 0.05]\n'
                      '[excitations.sweep]\nkind = "sweep"\nstart = 0.7\nend = 1.3\namplitude = 1.0\nperiods = 30\n'
                      '[objectives]\ndrift = "peak_drift"\nmass = "mu"\n[optimizer]\ntrials = 8\nbatch = 4\n'
-                     '[page]\nbuilding = "yielding.toml"\nids = [1, 6]\nsa = [0.3]\nmasses = [0.04, 0.06]\n')
+                     '[page]\nbuilding = "yielding.toml"\nids = [1, 6]\nsa = [0.3]\nmasses = [0.04, 0.06]\n'
+                     'assessment = "yielding.toml"\n')
     out = tmp_path / "out"
     assert cli.main(["design", str(study), "--out", str(out), "--workers", "2", "--page"]) == 0
     text = (out / "README.md").read_text()
-    for heading in ("## The search", "### (a)", "### (b)", "### (c)", "Ohtori"):
+    for heading in ("## The search", "### (a)", "### (b)", "### (c)", "Ohtori", "(not in the study: add it)"):
         assert heading in text
     decay = next(line for line in text.splitlines() if line.startswith("| bare | 1 | 1 |"))
     assert float(decay.split("|")[-2]) == pytest.approx(0.03, abs=5e-4)

@@ -16,7 +16,10 @@ field, its value and what is allowed).
     [page]              building (an assessment study file beside this one: its yielding [building]),
                         records (a FEMA P-695 set), ids (its record IDs; default all), sa = [g, ...] (Sa(T1, 5 %) of its stripes),
                         masses = [mu, ...] (the caps of the chosen designs), sweep (the excitation of
-                        the robustness curves): what `pidamper design --page` writes (design.page)
+                        the robustness curves), assessment (an assessment study file beside this
+                        one whose configurations are the chosen designs and their Warburton TMDs:
+                        the page names which is which, or that one is missing): what
+                        `pidamper design --page` writes (design.page)
     [run]               step [s]: the sample interval and communication step of the harmonic and
                         swept excitations (default T1 / 200; a record runs at its own interval)
 """
@@ -82,7 +85,8 @@ FIELDS = {
                          "a list of two or more of the set's record IDs (default all)"),
              "sa": ascending(POSITIVE, 1, "ascending Sa(T1, 5 %) levels [g] (> 0)"),
              "masses": ascending(number(0.0, 1.0, "", True, True), 1, "ascending mass ratios in (0, 1): the caps of "
-                                 "the chosen designs")},
+                                 "the chosen designs"),
+             "assessment": TEXT},
 }
 #: [page] defaults
 PAGE = {"records": "fema-p695-far-field", "sa": [0.105, 0.22], "masses": [0.01, 0.02, 0.04]}
@@ -209,10 +213,23 @@ def _page(refuse, spec, folder, storeys, tables):
     if building.get("storeys") != storeys:
         refuse("page.building", spec["building"], f"a building of the study's {storeys} storeys (it has "
                f"{building.get('storeys')})")
+    if "assessment" in spec:
+        out["assessment"] = _assessment(refuse, folder, spec["assessment"])
     sweep = out.get("sweep", next((n for n, t in tables.items() if t.get("kind") == "sweep"), None))
     if sweep is None or tables.get(sweep, {}).get("kind") != "sweep":
         refuse("page.sweep", sweep, "the name of a sweep excitation (the robustness curves run it)")
     return {**out, "building": building, "file": spec["building"], "sweep": sweep}
+
+
+def _assessment(refuse, folder, name):
+    """[page] assessment: the study file beside this one that assesses the chosen designs (file and
+    its configurations tables)."""
+    try:
+        configurations = tomllib.loads((folder / name).read_text())["configurations"]
+    except (OSError, KeyError, tomllib.TOMLDecodeError) as err:
+        refuse("page.assessment", name, "an assessment study file beside this one with [configurations.NAME] "
+               f"tables: the chosen designs and their TMDs ({err.__class__.__name__}: {err})")
+    return {"file": name, "configurations": configurations}
 
 
 def _check_tables(refuse, data):

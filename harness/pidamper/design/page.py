@@ -253,7 +253,7 @@ def _lines(design, found, designs, tmds, got, decay, records, page, out, command
     lines += _records_lines(design, got["records"], [k for k in labels if not k.startswith("Den Hartog")], records,
                             page, quake, _weight(design, page["building"]))
     return (lines + _answer_lines(design, designs, got, quake, page, len(records))
-            + _found_lines(design, best, designs, got))
+            + _found_lines(design, best, designs, got) + _assessment_lines(design, designs, page.get("assessment")))
 
 
 def _found_lines(design, best, designs, got):
@@ -403,6 +403,34 @@ def _criterion(got, label, metric, member, weight):
     top, bottom = float(mine["stroke" if metric == "stroke" else metric]), float(bare["roof_disp" if metric == "stroke"
                                                                                       else metric])
     return top / bottom if bottom > 0 else math.nan
+
+
+def _assessment_lines(design, designs, assessment):
+    """Which configuration of the [page] assessment study is each chosen design and its Warburton TMD."""
+    if not assessment:
+        return []
+    confs = assessment["configurations"]
+    lines = ["", "## The chosen designs' FEMA P-58 assessment", "",
+             "The expected annual loss and the collapse intensity are not objectives of the search (one evaluation "
+             "is a whole FEMA P-58 run of some 800 runs of the yielding building); the chosen designs and the "
+             f"Warburton TMD of each one's mass go through `pidamper assess {assessment['file']}` instead, as these "
+             "of its configurations (matched by their parameters):", "",
+             "| chosen design | its configuration | the Warburton TMD of its mass | its configuration |",
+             "|---|---|---|---|"]
+    missing = "(not in the study: add it)"
+    for label, params in designs.items():
+        mine = {**design.damper, **params}
+        mu = mine.get("mu", 0.0)
+        same = next((n for n, c in confs.items() if all(_same(c.get(k), v) for k, v in mine.items())), missing)
+        tmd = next((n for n, c in confs.items() if c.get("tmd") == "warburton" and _same(c.get("mu"), mu)), missing)
+        lines.append(f"| {label} | {same} | Warburton TMD, mu {mu:.3g} | {tmd} |")
+    return lines
+
+
+def _same(a, b):
+    """Two study values alike: numbers to 1e-12 relative, anything else equal."""
+    numbers = all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (a, b))
+    return math.isclose(a, b, rel_tol=1e-12) if numbers else a == b
 
 
 def _materials_text(design, got, labels):
