@@ -46,7 +46,7 @@ def run(values, accel, dt, fmu=None):
     return stepped_building(values, inputs, fmu, lambda instance: _stepped(instance, inputs, dt, values))
 
 
-def yield_drifts(values):
+def _yield_drifts(values):
     """Each storey's yield drift storey[k].Fy / storey[k].k [m], or None when a storey does not yield."""
     n = values["storeys"]
     fy = [values.get(f"storey[{k}].Fy", 0.0) for k in range(1, n + 1)]
@@ -113,7 +113,7 @@ def _damper_constants(values):
 
 def _yielding(values, peak, rms):
     """ductility, rms_ductility and yielded from the storeys' peak and RMS drift ratios."""
-    yields = yield_drifts(values)
+    yields = _yield_drifts(values)
     if yields is None:
         return {"ductility": math.nan, "rms_ductility": math.nan, "yielded": math.nan}
     heights = [values.get(f"storey[{k}].h", STOREY_HEIGHT) for k in range(1, len(yields) + 1)]
