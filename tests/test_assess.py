@@ -206,3 +206,23 @@ def test_the_console_and_the_page_count_the_same_runs(said):
     console = int(re.match(r"(\d+) runs \(", stdout).group(1))
     page = int(re.search(r"Python [0-9.]+: (\d+) runs \(", (out / "README.md").read_text()).group(1))
     assert console == page == ida + stripes == 12 + stripes
+
+
+def test_a_journal_counts_only_the_studys_configurations(tmp_path):
+    """assess.journaled: a journal copied in from another study (other configurations, its
+    [uncertainty] runs) counts only this study's runs; the IDA journal counts the runs of its IDAs."""
+    with (tmp_path / "runs.csv").open("w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["key", "configuration"])
+        for i, conf in enumerate(["bare", "damper", "damper", "damper@storeys+", "bare@damping-", "other",
+                                  "other@storeys+"]):
+            writer.writerow([f"k{i}", conf])
+    with (tmp_path / "ida.csv").open("w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["key", "configuration", "runs"])
+        writer.writerows([["a", "bare", "[1, 2, 3]"], ["b", "other", "[1, 2]"], ["c", "damper", "[1]"]])
+    confs = {"bare": {}, "damper": {}}
+    assert assess.journaled(tmp_path / "runs.csv", confs) == 3
+    assert assess.journaled(tmp_path / "runs.csv", confs, perturbed=True) == 2
+    assert assess.journaled(tmp_path / "ida.csv", confs) == 4
+    assert assess.journaled(tmp_path / "none.csv", confs) == 0

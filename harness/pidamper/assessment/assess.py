@@ -949,7 +949,7 @@ def assessment(study_path, out="assessment", engine="fmu", workers=None, dask=Fa
         if progress:
             print(f"pidamper assess: {name} finished, {stages[-1][1]:.0f} s", file=sys.stderr, flush=True)
 
-    held = {name: journaled(out / name) for name in ("ida.csv", "runs.csv")}
+    held = {name: journaled(out / name, study.configurations) for name in ("ida.csv", "runs.csv")}
     if study.ida:  # first: its curves may give the stripes
         t0 = time.perf_counter()
         traces = run_ida(study, out, engine, workers, dask, scheduler, fmu, progress)
@@ -988,7 +988,7 @@ def assessment(study_path, out="assessment", engine="fmu", workers=None, dask=Fa
         t0 = time.perf_counter()
         run = functools.partial(run_study, out=out, engine=engine, workers=workers, dask=dask, scheduler=scheduler,
                                 fmu=fmu, progress=progress)
-        held["uncertainty"] = journaled(out / "runs.csv", perturbed=True)
+        held["uncertainty"] = journaled(out / "runs.csv", study.configurations, perturbed=True)
         extra += assess_uncertainty(study, per_conf, ratios, collapse, run, workers or os.cpu_count())
         stage("uncertainty", t0, "uncertainty")
     t0 = time.perf_counter()
@@ -999,18 +999,20 @@ def assessment(study_path, out="assessment", engine="fmu", workers=None, dask=Fa
     return Assessment(study, rows, fits, risks, traces)
 
 
-def journaled(path, perturbed=False):
-    """The finished runs a journal holds (ida.csv: the runs of its IDAs; runs.csv: its rows, or with
-    `perturbed` those of the [uncertainty] cases' configurations, 'damper@storeys+'); 0 without it."""
+def journaled(path, configurations, perturbed=False):
+    """The finished runs of the study's `configurations` a journal holds (ida.csv: the runs of their
+    IDAs; runs.csv: their rows, or with `perturbed` those of their [uncertainty] cases, 'damper@storeys+');
+    0 without it.  A journal copied from another study may hold other configurations' runs too."""
     if not Path(path).is_file():
         return 0
     import csv
 
     with Path(path).open(newline="") as handle:
-        rows = list(csv.DictReader(handle))
+        rows = [row for row in csv.DictReader(handle)
+                if row.get("configuration", "").split("@")[0] in configurations]
     if Path(path).name == "ida.csv":
         return sum(Journal._runs(row) for row in rows)
-    return sum("@" in row.get("configuration", "") for row in rows) if perturbed else len(rows)
+    return sum(("@" in row["configuration"]) == perturbed for row in rows)
 
 
 def summary(found, out):
