@@ -400,9 +400,8 @@ def _criterion(got, label, metric, member, weight):
     mine, bare = got[label, member, 1.0], got["bare", member, 1.0]
     if metric == "damper_force":
         return float(mine[metric]) / weight
-    top, bottom = float(mine["stroke" if metric == "stroke" else metric]), float(bare["roof_disp" if metric == "stroke"
-                                                                                      else metric])
-    return top / bottom if bottom > 0 else math.nan
+    bottom = float(bare["roof_disp" if metric == "stroke" else metric])
+    return float(mine[metric]) / bottom if bottom > 0 else math.nan
 
 
 def _assessment_lines(design, designs, assessment):
